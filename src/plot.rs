@@ -1,0 +1,262 @@
+//! Plotting: PNG charts with an embedded font (DejaVu Sans, registered once),
+//! so nothing depends on system fonts.
+//!
+//! Generic helpers only: line charts (linear or log-log) and gray-scale
+//! space-time images. Model-specific pictures live beside their model.
+
+use crate::error::{Error, ErrorKind, Result};
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+use std::path::Path;
+use std::sync::Once;
+
+/// Font family name under which the embedded font is registered.
+pub const FONT: &str = "sans-serif";
+
+static REGISTER: Once = Once::new();
+
+/// Register the embedded DejaVu Sans font with plotters (idempotent).
+pub fn register_fonts() {
+    REGISTER.call_once(|| {
+        plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
+            .map_err(|_| ())
+            .expect("embedded DejaVu Sans is a valid font");
+        plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold())
+            .map_err(|_| ())
+            .expect("embedded DejaVu Sans Bold is a valid font");
+    });
+}
+
+/// Turn any plotting error into the library's error type.
+pub fn plot_err<E: std::fmt::Display>(e: E) -> Error {
+    Error::new(ErrorKind::Io, format!("plotting failed: {e}"))
+}
+
+/// A named line of a chart.
+#[derive(Debug, Clone)]
+pub struct Line {
+    /// Legend label.
+    pub label: String,
+    /// Points (x, y).
+    pub points: Vec<(f64, f64)>,
+    /// Colour.
+    pub color: RGBColor,
+    /// Draw as points (circles) instead of a connected line.
+    pub markers: bool,
+}
+
+impl Line {
+    /// A connected line.
+    pub fn new(label: &str, points: Vec<(f64, f64)>, color: RGBColor) -> Self {
+        Line {
+            label: label.to_string(),
+            points,
+            color,
+            markers: false,
+        }
+    }
+
+    /// Drawn as markers.
+    pub fn markers(mut self) -> Self {
+        self.markers = true;
+        self
+    }
+}
+
+/// A palette of distinguishable colours.
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(0, 90, 181),
+    RGBColor(220, 50, 32),
+    RGBColor(0, 150, 60),
+    RGBColor(150, 60, 170),
+    RGBColor(230, 140, 0),
+    RGBColor(60, 60, 60),
+];
+
+fn bounds(lines: &[Line], log: bool) -> ((f64, f64), (f64, f64)) {
+    let mut xs = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut ys = (f64::INFINITY, f64::NEG_INFINITY);
+    for l in lines {
+        for &(x, y) in &l.points {
+            if !x.is_finite() || !y.is_finite() || (log && (x <= 0.0 || y <= 0.0)) {
+                continue;
+            }
+            xs = (xs.0.min(x), xs.1.max(x));
+            ys = (ys.0.min(y), ys.1.max(y));
+        }
+    }
+    if !xs.0.is_finite() {
+        xs = (1.0, 10.0);
+        ys = (1.0, 10.0);
+    }
+    if xs.0 == xs.1 {
+        xs = (xs.0 - 1.0, xs.1 + 1.0);
+    }
+    if ys.0 == ys.1 {
+        ys = (ys.0 - 1.0, ys.1 + 1.0);
+    }
+    if log {
+        ((xs.0, xs.1 * 1.05), (ys.0 / 1.5, ys.1 * 1.5))
+    } else {
+        let pad = 0.05 * (ys.1 - ys.0);
+        ((xs.0, xs.1), (ys.0 - pad, ys.1 + pad))
+    }
+}
+
+/// Draw a line chart to `path` (PNG). `log` makes both axes logarithmic.
+pub fn line_chart(
+    path: &Path,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    lines: &[Line],
+    log: bool,
+) -> Result<()> {
+    register_fonts();
+    let root = BitMapBackend::new(path, (900, 650)).into_drawing_area();
+    root.fill(&WHITE).map_err(plot_err)?;
+    let ((x0, x1), (y0, y1)) = bounds(lines, log);
+    macro_rules! draw {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            chart
+                .configure_mesh()
+                .x_desc(xlabel)
+                .y_desc(ylabel)
+                .label_style((FONT, 16))
+                .draw()
+                .map_err(plot_err)?;
+            for l in lines {
+                let pts: Vec<(f64, f64)> = l
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|&(x, y)| x.is_finite() && y.is_finite() && (!log || (x > 0.0 && y > 0.0)))
+                    .collect();
+                let color = l.color;
+                if l.markers {
+                    chart
+                        .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                        .map_err(plot_err)?
+                        .label(l.label.clone())
+                        .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
+                } else {
+                    chart
+                        .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+                        .map_err(plot_err)?
+                        .label(l.label.clone())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                        });
+                }
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font((FONT, 16))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(plot_err)?;
+        }};
+    }
+    let mut builder = ChartBuilder::on(&root);
+    builder
+        .caption(title, (FONT, 20))
+        .margin(15)
+        .x_label_area_size(50)
+        .y_label_area_size(80);
+    if log {
+        draw!(builder
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .map_err(plot_err)?);
+    } else {
+        draw!(builder.build_cartesian_2d(x0..x1, y0..y1).map_err(plot_err)?);
+    }
+    root.present().map_err(plot_err)?;
+    Ok(())
+}
+
+/// A gray-scale image of a field `values[t][i]` (time samples x bins),
+/// drawn with time along the horizontal axis and bins along the vertical.
+#[derive(Debug, Clone)]
+pub struct SpaceTime<'a> {
+    /// Samples: `values[t][i]`, bin `i` at time sample `t`.
+    pub values: &'a [Vec<f64>],
+    /// Value drawn white.
+    pub white: f64,
+    /// Value drawn black.
+    pub black: f64,
+    /// Time of sample `t` is `t0 + t * dt`.
+    pub t0: f64,
+    /// Time between samples.
+    pub dt: f64,
+    /// Rows per bin (for the vertical axis in rows).
+    pub rows_per_bin: f64,
+    /// Draw time running right to left (as in PH94 Fig. 1).
+    pub time_right_to_left: bool,
+    /// Draw bin 0 (the bottom of the pipe) at the bottom of the image, so
+    /// gravity points from the top of the image to its bottom.
+    pub bottom_at_bottom: bool,
+}
+
+impl SpaceTime<'_> {
+    /// Draw onto a drawing area with axes, title and labels.
+    pub fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, plotters::coord::Shift>, title: &str) -> Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        register_fonts();
+        let nt = self.values.len().max(1);
+        let nb = self.values.first().map(|v| v.len()).unwrap_or(1).max(1);
+        let t_first = self.t0;
+        let t_last = self.t0 + (nt as f64) * self.dt;
+        let (xa, xb) = if self.time_right_to_left {
+            (t_last, t_first)
+        } else {
+            (t_first, t_last)
+        };
+        let height = nb as f64 * self.rows_per_bin;
+        let mut chart = ChartBuilder::on(area)
+            .caption(title, (FONT, 17))
+            .margin(8)
+            .x_label_area_size(40)
+            .y_label_area_size(65)
+            .build_cartesian_2d(xa..xb, 0.0..height)
+            .map_err(plot_err)?;
+        let time_label = if self.time_right_to_left {
+            "time (steps), runs right to left"
+        } else {
+            "time (steps), runs left to right"
+        };
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(time_label)
+            .y_desc("height y (rows), gravity downwards")
+            .label_style((FONT, 13))
+            .draw()
+            .map_err(plot_err)?;
+        // pixel-exact fill: map each pixel of the plotting area to a cell
+        let plot = chart.plotting_area();
+        let (px, py) = plot.dim_in_pixel();
+        let span = (self.black - self.white).abs().max(1e-12);
+        for ix in 0..px {
+            let fx = (ix as f64 + 0.5) / px as f64;
+            let ft = if self.time_right_to_left { 1.0 - fx } else { fx };
+            let t = ((ft * nt as f64) as usize).min(nt - 1);
+            for iy in 0..py {
+                let fy = (iy as f64 + 0.5) / py as f64; // 0 at top
+                let fb = if self.bottom_at_bottom { 1.0 - fy } else { fy };
+                let b = ((fb * nb as f64) as usize).min(nb - 1);
+                let v = self.values[t][b];
+                let level = ((v - self.white) / span).clamp(0.0, 1.0);
+                let g = (255.0 * (1.0 - level)).round() as u8;
+                let (x, y) = plot.get_base_pixel();
+                area.draw_pixel((x + ix as i32 - area.get_base_pixel().0, y + iy as i32 - area.get_base_pixel().1), &RGBColor(g, g, g))
+                    .map_err(plot_err)?;
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,329 @@
+//! Run plumbing shared by every figure binary: tiers, seeds, ensembles of
+//! independent runs over all cores, progress bars, and the output contract
+//! (`DIR/<binary>/` with PNGs, CSVs and `summary.json`).
+
+use crate::error::{Error, ErrorKind, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// How much a figure computes: `quick` (seconds, for tests), `standard`
+/// (minutes) or `paper` (the published sizes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Tier {
+    /// Seconds: small lattices, short runs; what the tests use.
+    Quick,
+    /// Minutes: between quick and paper.
+    Standard,
+    /// The sizes and lengths of the published figure.
+    Paper,
+}
+
+impl Tier {
+    /// Lower-case name as used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Tier::Quick => "quick",
+            Tier::Standard => "standard",
+            Tier::Paper => "paper",
+        }
+    }
+
+    /// Pick one of three values by tier.
+    pub fn pick<T>(self, quick: T, standard: T, paper: T) -> T {
+        match self {
+            Tier::Quick => quick,
+            Tier::Standard => standard,
+            Tier::Paper => paper,
+        }
+    }
+}
+
+/// The seed of run `index` of an ensemble with base seed `base`
+/// (SplitMix64 of the pair), so runs are independent and reproducible.
+pub fn derive_seed(base: u64, index: u64) -> u64 {
+    let mut z = base
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(index.wrapping_add(1).wrapping_mul(0xD1B5_4A32_D192_ED03));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Number of worker threads: all available cores.
+pub fn threads() -> usize {
+    std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1)
+}
+
+/// Run `f(index)` for `index in 0..n` on all cores and return the results in
+/// index order. Each run must be a pure function of its index (derive its seed
+/// with [`derive_seed`]); the result is then independent of the thread count.
+pub fn ensemble<T, F>(n: usize, f: F) -> Vec<T>
+where
+    T: Send,
+    F: Fn(usize) -> T + Sync,
+{
+    ensemble_with_threads(n, threads(), f)
+}
+
+/// [`ensemble`] with an explicit thread count (for tests of determinism).
+pub fn ensemble_with_threads<T, F>(n: usize, threads: usize, f: F) -> Vec<T>
+where
+    T: Send,
+    F: Fn(usize) -> T + Sync,
+{
+    let next = AtomicUsize::new(0);
+    let slots: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
+    std::thread::scope(|s| {
+        for _ in 0..threads.max(1).min(n.max(1)) {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                if i >= n {
+                    break;
+                }
+                let r = f(i);
+                slots.lock().expect("a worker panicked")[i] = Some(r);
+            });
+        }
+    });
+    slots
+        .into_inner()
+        .expect("a worker panicked")
+        .into_iter()
+        .map(|r| r.expect("every run finished"))
+        .collect()
+}
+
+/// A progress bar on stderr with the house style (hidden when `len == 0`).
+pub fn progress(len: u64, what: &str) -> ProgressBar {
+    let pb = ProgressBar::new(len);
+    pb.set_style(
+        ProgressStyle::with_template("{msg:>14} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    pb.set_message(what.to_string());
+    pb
+}
+
+/// One comparison of a measured value with a published one.
+#[derive(Debug, Clone, Serialize)]
+pub struct Check {
+    /// Name of the check (e.g. `alpha`).
+    pub name: String,
+    /// The measured value.
+    pub measured: f64,
+    /// One standard error of the measured value (spread over seeds).
+    pub error: f64,
+    /// The published value, or `None` for blind figures.
+    pub published: Option<f64>,
+    /// The allowed |measured - published| (stated with the check).
+    pub tolerance: f64,
+    /// Whether the measurement agrees within the tolerance (false when blind).
+    pub pass: bool,
+    /// Why it fails, how the tolerance was derived, or what is compared.
+    pub note: String,
+}
+
+impl Check {
+    /// A check of `measured +- error` against `published` within `tolerance`.
+    pub fn new(
+        name: &str,
+        measured: f64,
+        error: f64,
+        published: Option<f64>,
+        tolerance: f64,
+        note: &str,
+    ) -> Self {
+        let pass = match published {
+            Some(p) => measured.is_finite() && (measured - p).abs() <= tolerance,
+            None => false,
+        };
+        Check {
+            name: name.to_string(),
+            measured,
+            error,
+            published,
+            tolerance,
+            pass,
+            note: note.to_string(),
+        }
+    }
+
+    /// A yes/no check of a qualitative claim: `measured` is the statistic,
+    /// `pass` the verdict.
+    pub fn claim(name: &str, measured: f64, error: f64, pass: bool, note: &str) -> Self {
+        Check {
+            name: name.to_string(),
+            measured,
+            error,
+            published: None,
+            tolerance: f64::NAN,
+            pass,
+            note: note.to_string(),
+        }
+    }
+
+    /// One line for the terminal.
+    pub fn line(&self) -> String {
+        let published = match self.published {
+            Some(p) => format!("{p:.4} +- {:.4}", self.tolerance),
+            None => "(none)".to_string(),
+        };
+        format!(
+            "[{}] {}: measured {:.4} +- {:.4}, published {} {}",
+            if self.pass { "PASS" } else { "FAIL" },
+            self.name,
+            self.measured,
+            self.error,
+            published,
+            self.note
+        )
+    }
+}
+
+/// The `summary.json` of a figure binary (DEVELOPERS.md, output contract).
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// Binary name, e.g. `fig1`.
+    pub figure: String,
+    /// Paper and figure, e.g. `PH94 Fig. 1`.
+    pub paper: String,
+    /// Tier the figure ran at.
+    pub tier: Tier,
+    /// Seeds of the runs.
+    pub seeds: Vec<u64>,
+    /// Parameters as given to the model(s).
+    pub params: serde_json::Value,
+    /// Rule variant(s) used, as printed by the model.
+    pub rules: String,
+    /// Wall-clock time of the whole figure.
+    pub wall_seconds: f64,
+    /// Total number of site updates (sites x steps) computed.
+    pub site_updates: f64,
+    /// Named numbers (metric names fixed by the issues).
+    pub metrics: BTreeMap<String, f64>,
+    /// Comparisons with published values.
+    pub checks: Vec<Check>,
+}
+
+/// The output folder of one figure binary: `DIR/<binary>/`.
+#[derive(Debug, Clone)]
+pub struct Output {
+    dir: PathBuf,
+}
+
+impl Output {
+    /// Create (if needed) `out/<binary>/`.
+    pub fn new(out: &Path, binary: &str) -> Result<Self> {
+        let dir = out.join(binary);
+        fs::create_dir_all(&dir).map_err(|e| {
+            Error::new(
+                ErrorKind::Io,
+                format!("cannot create output folder {}: {e}; choose another --out", dir.display()),
+            )
+        })?;
+        Ok(Output { dir })
+    }
+
+    /// Path of a file inside the output folder.
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.dir.join(name)
+    }
+
+    /// The output folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Write a CSV file with a header line and rows of numbers.
+    pub fn write_csv(&self, name: &str, header: &[&str], rows: &[Vec<f64>]) -> Result<PathBuf> {
+        let path = self.path(name);
+        let mut s = String::new();
+        s.push_str(&header.join(","));
+        s.push('\n');
+        for r in rows {
+            let line: Vec<String> = r.iter().map(|v| format!("{v}")).collect();
+            s.push_str(&line.join(","));
+            s.push('\n');
+        }
+        write_atomic(&path, s.as_bytes())?;
+        Ok(path)
+    }
+
+    /// Write `summary.json` and print one line per check on stdout.
+    pub fn finish(&self, summary: &Summary) -> Result<PathBuf> {
+        let path = self.path("summary.json");
+        let text = serde_json::to_string_pretty(summary)
+            .map_err(|e| Error::new(ErrorKind::Io, format!("cannot serialise summary: {e}")))?;
+        write_atomic(&path, text.as_bytes())?;
+        println!("wrote {}", self.dir.display());
+        for (k, v) in &summary.metrics {
+            println!("  {k} = {v:.6}");
+        }
+        for c in &summary.checks {
+            println!("{}", c.line());
+        }
+        Ok(path)
+    }
+}
+
+/// Write a file via a temporary name and a rename, so a crash never leaves a
+/// half-written file behind.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = path.with_extension("tmp~");
+    let mut f = fs::File::create(&tmp)
+        .map_err(|e| Error::new(ErrorKind::Io, format!("cannot write {}: {e}", tmp.display())))?;
+    f.write_all(bytes)?;
+    f.sync_all().ok();
+    drop(f);
+    fs::rename(&tmp, path)?;
+    Ok(())
+}
+
+/// Mean and standard error of the mean (0 for fewer than two values).
+pub fn mean_sem(xs: &[f64]) -> (f64, f64) {
+    let n = xs.len();
+    if n == 0 {
+        return (f64::NAN, f64::NAN);
+    }
+    let m = xs.iter().sum::<f64>() / n as f64;
+    if n < 2 {
+        return (m, 0.0);
+    }
+    let var = xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n as f64 - 1.0);
+    (m, (var / n as f64).sqrt())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ensemble_is_independent_of_thread_count() {
+        let f = |i: usize| derive_seed(42, i as u64);
+        let a = ensemble_with_threads(17, 1, f);
+        let b = ensemble_with_threads(17, 3, f);
+        assert_eq!(a, b);
+        // seeds differ between runs
+        let mut s = a.clone();
+        s.sort();
+        s.dedup();
+        assert_eq!(s.len(), 17);
+    }
+
+    #[test]
+    fn mean_and_error() {
+        let (m, e) = mean_sem(&[1.0, 2.0, 3.0]);
+        assert!((m - 2.0).abs() < 1e-12);
+        assert!((e - (1.0f64 / 3.0).sqrt()).abs() < 1e-12);
+    }
+}
