@@ -12,8 +12,10 @@
 //! open is a named variant.
 #![deny(missing_docs)]
 
+pub mod cli;
 pub mod error;
 pub mod lattice;
+pub mod pipe;
 pub mod plot;
 pub mod run;
 
