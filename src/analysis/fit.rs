@@ -219,11 +219,10 @@ pub fn fit_power_law(p: &[f64], params: &PowerLawParams) -> Result<PowerLawFit> 
     check_range_in(p, params.j_lo, params.j_hi)?;
     let mut lx = Vec::new();
     let mut ly = Vec::new();
-    for j in params.j_lo..=params.j_hi {
+    for (j, &v) in p.iter().enumerate().take(params.j_hi + 1).skip(params.j_lo) {
         if params.is_excluded(j) {
             continue;
         }
-        let v = p[j];
         if !(v.is_finite() && v > 0.0) {
             return Err(Error::new(
                 ErrorKind::BadSeries,

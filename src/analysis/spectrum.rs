@@ -291,6 +291,8 @@ mod tests {
     /// `ovrlap = 0` (1-based arrays, two segments per complex FFT, `four1`
     /// with isign = +1, i.e. exp(+2 pi i jk/N), unnormalised), reading from
     /// an already mean-subtracted series. The reference for [`spctrm`].
+    // Keeps NR's 1-based index arithmetic on purpose.
+    #[allow(clippy::needless_range_loop)]
     fn nr_spctrm(x: &[f64], m: usize, k: usize, facm: f64, facp: f64) -> Vec<f64> {
         let window = |j: usize| 1.0 - (((j as f64 - 1.0) - facm) * facp).abs();
         let mm = m + m;
