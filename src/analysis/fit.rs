@@ -317,7 +317,9 @@ fn check_range_in(p: &[f64], j_lo: usize, j_hi: usize) -> Result<()> {
 
 /// The default fit range for `m` output frequencies: [PH94]'s 40..=1000 at
 /// m = 16384, both ends scaled by m / 16384 and rounded to the nearest
-/// integer (halves up), with j_lo >= 2 and j_hi <= m - 1 (and j_hi >= j_lo).
+/// integer (halves up), with j_lo >= 2 and j_hi <= m - 1 (and j_hi >= j_lo;
+/// for m <= 64 the range has at most 3 bins and for m <= 4 it lies outside
+/// the spectrum, so that [`fit_power_law`] reports the error).
 ///
 /// ```
 /// use granular_automata::analysis::fit::default_fit_range;
@@ -354,7 +356,7 @@ pub fn local_background(p: &[f64], j: usize) -> Result<f64> {
         return Err(Error::new(
             ErrorKind::InvalidParameter,
             format!(
-                "local_background at j = {j} for a spectrum of {len} values: allowed range                  [1, {}]",
+                "local_background at j = {j} for a spectrum of {len} values: allowed range [1, {}]",
                 len.saturating_sub(1)
             ),
         ));
@@ -385,7 +387,7 @@ pub fn local_background(p: &[f64], j: usize) -> Result<f64> {
         return Err(Error::new(
             ErrorKind::InvalidParameter,
             format!(
-                "local_background at j = {j}: only {} usable bins in {lo}..={hi}, allowed                  range [3, inf); use a longer spectrum (larger m)",
+                "local_background at j = {j}: only {} usable bins in {lo}..={hi}, allowed range [3, inf); use a longer spectrum (larger m)",
                 x.len()
             ),
         ));
@@ -828,6 +830,44 @@ mod tests {
         }
         assert!(local_background(&p, 0).is_err() && local_background(&p, 100).is_err());
         assert!(local_background(&p[..5], 2).is_err());
+    }
+
+    /// Calibration of the peak finder (run by hand like
+    /// `calibrate_alpha_estimator`): where [`find_peak`] lands in pure
+    /// 1/f^a noise (it should not pile up at the low end of the range), the
+    /// largest noise contrast, and how often a line of contrast 6 at j = 149
+    /// is found exactly.
+    #[test]
+    #[ignore]
+    fn calibrate_peak_finder() {
+        let m = 4096;
+        let trials = 200;
+        let (lo, hi) = default_fit_range(m);
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(SEED ^ 0xbea7);
+        for a in [0.0, 1.0, 2.0] {
+            let mut low_end = 0;
+            let mut max_c: f64 = 0.0;
+            let mut mean_j = 0.0;
+            for _ in 0..trials {
+                let p = spectrum_of(&power_law_noise(16 * m, a, &mut rng), m);
+                let (j, c) = find_peak_contrast(&p, lo, hi).unwrap();
+                low_end += usize::from(j < lo + 10);
+                max_c = max_c.max(c);
+                mean_j += j as f64 / trials as f64;
+            }
+            println!(
+                "a = {a}: peak in {lo}..{} in {low_end}/{trials} (uniform: {:.1}), mean j {mean_j:.0} (uniform {}), max contrast {max_c:.2}",
+                lo + 9,
+                10.0 * trials as f64 / (hi - lo + 1) as f64,
+                (lo + hi) / 2
+            );
+        }
+        let mut hits = 0;
+        for _ in 0..trials {
+            let (p, j0) = spectrum_with_line(&mut rng, 6.0);
+            hits += usize::from(find_peak(&p, lo, hi).unwrap() == j0);
+        }
+        println!("line of contrast 6 found in {hits}/{trials}");
     }
 
     /// Calibration (run by hand: `cargo test --lib calibrate -- --ignored
