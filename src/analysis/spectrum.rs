@@ -126,7 +126,7 @@ impl SpectrumParams {
                 ErrorKind::InvalidParameter,
                 format!(
                     "spectrum m = {} is not allowed: m must be a power of two >= 2 \
-                     (NR spctrm); use e.g. m = {} ",
+                     (NR spctrm); use e.g. m = {}",
                     self.m,
                     self.m.max(2).next_power_of_two()
                 ),
@@ -411,6 +411,32 @@ mod tests {
                 assert!(
                     (total / want - 1.0).abs() < 1e-3,
                     "{window:?} j0 = {j0}: sum P = {total}, A^2/2 = {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn low_frequency_sine_power_follows_the_window_weighting() {
+        // sum P = A^2/2 * (1 -+ c/j0^2) for sin / cos, c = 0.1518 for the
+        // Parzen1988 triangle at m = 1024 (sum_i w_i^2 cos(4 pi j0 i/N) /
+        // sum_i w_i^2, computed independently).
+        let (m, k) = (1024, 4);
+        let params = SpectrumParams {
+            m,
+            k,
+            window: Window::Parzen1988,
+        };
+        for j0 in [1usize, 2, 5] {
+            for (sign, phase) in [(-1.0, 0.0), (1.0, PI / 2.0)] {
+                let x: Vec<f64> = (0..4 * k * m)
+                    .map(|i| (2.0 * PI * j0 as f64 * i as f64 / (2 * m) as f64 + phase).sin())
+                    .collect();
+                let total: f64 = spctrm(&x, &params).unwrap().iter().sum();
+                let want = 0.5 * (1.0 + sign * 0.1518 / (j0 * j0) as f64);
+                assert!(
+                    (total / want - 1.0).abs() < 2e-4,
+                    "j0 = {j0}: {total} vs {want}"
                 );
             }
         }
