@@ -22,7 +22,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
     let rules: Rules = a.rules.parse()?;
     for length in [220usize, 2200] {
-        let params = Params { length, width: 11, ..Params::default() };
+        let params = Params {
+            length,
+            width: 11,
+            ..Params::default()
+        };
         let mut pipe = Pipe::new(params, rules, a.seed)?;
         pipe.run(2000)?; // leave the random start
         let steps = a.steps * 220 / length as u64;

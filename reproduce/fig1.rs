@@ -31,14 +31,25 @@ struct Args {
 const WAVE_THRESHOLD: f64 = 2.0;
 const PANELS: [&str; 4] = ["a", "b", "c", "d"];
 
-fn one_run(base: Params, rules: Rules, seed: u64, steps: u64, every: u64, tick: &(dyn Fn(u64) + Sync)) -> granular_automata::Result<Vec<(Record, Bands)>> {
+fn one_run(
+    base: Params,
+    rules: Rules,
+    seed: u64,
+    steps: u64,
+    every: u64,
+    tick: &(dyn Fn(u64) + Sync),
+) -> granular_automata::Result<Vec<(Record, Bands)>> {
     let stats = |rec: Record, params: &Params| {
         let b = bands(&rec, rec.n.len() / 2, params.rho, params.bin, params.width);
         (rec, b)
     };
     let pa = Params { p: 0.1, ..base };
     let pb = Params { p: 0.0, ..base };
-    let pd = Params { p: 0.1, b: 0.0, ..base };
+    let pd = Params {
+        p: 0.1,
+        b: 0.0,
+        ..base
+    };
     let mut a = Pipe::new(pa, rules, seed)?;
     let ra = record(&mut a, steps, every, |_| tick(every))?;
     let mut b = Pipe::new(pb, rules, seed)?;
@@ -50,7 +61,12 @@ fn one_run(base: Params, rules: Rules, seed: u64, steps: u64, every: u64, tick: 
     rc.t0 += every;
     let mut d = Pipe::new(pd, rules, seed)?;
     let rd = record(&mut d, steps, every, |_| tick(every))?;
-    Ok(vec![stats(ra, &pa), stats(rb, &pb), stats(rc, &pa), stats(rd, &pd)])
+    Ok(vec![
+        stats(ra, &pa),
+        stats(rb, &pb),
+        stats(rc, &pa),
+        stats(rd, &pd),
+    ])
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -62,15 +78,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (length, steps) = (2200, 40000);
     let runs = args.common.runs_or(4, 8, 16);
     let every = 80;
-    let base = Params { length, width: 11, rho: 1.0, p: 0.1, g: 0.5, b: 0.5, ..Params::default() };
+    let base = Params {
+        length,
+        width: 11,
+        rho: 1.0,
+        p: 0.1,
+        g: 0.5,
+        b: 0.5,
+        ..Params::default()
+    };
     base.validate()?;
     let out = Output::new(&args.common.out, "fig1")?;
-    let seeds: Vec<u64> = (0..runs as u64).map(|i| derive_seed(args.common.seed, i)).collect();
+    let seeds: Vec<u64> = (0..runs as u64)
+        .map(|i| derive_seed(args.common.seed, i))
+        .collect();
 
     let start = Instant::now();
     let pb = progress(runs as u64 * 4 * steps, "fig1 steps");
     let tick = |n: u64| pb.inc(n);
-    let results = ensemble(runs, |i| one_run(base, rules, seeds[i], steps, every, &tick));
+    let results = ensemble(runs, |i| {
+        one_run(base, rules, seeds[i], steps, every, &tick)
+    });
     pb.finish();
     let results: Vec<Vec<(Record, Bands)>> = results.into_iter().collect::<Result<_, _>>()?;
     let wall = start.elapsed().as_secs_f64();
@@ -90,10 +118,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         metrics.insert(format!("s_low_{name}_err"), se);
         stat.insert(*name, (sm, se));
         for (i, r) in results.iter().enumerate() {
-            rows.push(vec![k as f64, seeds[i] as f64, r[k].1.contrast, r[k].1.s_low]);
+            rows.push(vec![
+                k as f64,
+                seeds[i] as f64,
+                r[k].1.contrast,
+                r[k].1.s_low,
+            ]);
         }
     }
-    out.write_csv("panel_stats.csv", &["panel(0=a..3=d)", "seed", "contrast", "s_low"], &rows)?;
+    out.write_csv(
+        "panel_stats.csv",
+        &["panel(0=a..3=d)", "seed", "contrast", "s_low"],
+        &rows,
+    )?;
     for (k, name) in PANELS.iter().enumerate() {
         let rec = &results[0][k].0;
         let header: Vec<String> = std::iter::once("t".to_string())
@@ -104,7 +141,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .n
             .iter()
             .enumerate()
-            .map(|(t, v)| std::iter::once(rec.time(t) as f64).chain(v.iter().copied()).collect())
+            .map(|(t, v)| {
+                std::iter::once(rec.time(t) as f64)
+                    .chain(v.iter().copied())
+                    .collect()
+            })
             .collect();
         out.write_csv(&format!("bins_{name}.csv"), &header, &rows)?;
     }
@@ -117,10 +158,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "(d) p = 0.1, b = 0",
     ];
     register_fonts();
-    let draw = |area: &DrawingArea<BitMapBackend, plotters::coord::Shift>, k: usize| -> Result<(), Box<dyn std::error::Error>> {
+    let draw = |area: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+                k: usize|
+     -> Result<(), Box<dyn std::error::Error>> {
         let rec = &results[0][k].0;
-        let lo = rec.n.iter().flatten().cloned().fold(f64::INFINITY, f64::min);
-        let hi = rec.n.iter().flatten().cloned().fold(f64::NEG_INFINITY, f64::max);
+        let lo = rec
+            .n
+            .iter()
+            .flatten()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
+        let hi = rec
+            .n
+            .iter()
+            .flatten()
+            .cloned()
+            .fold(f64::NEG_INFINITY, f64::max);
         let st = SpaceTime {
             values: &rec.n,
             white: lo,
@@ -163,7 +216,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (d, e, d > 2.0 * e)
     };
     let mut checks = Vec::new();
-    for (n, want, what) in [("a", true, "waves form at p = 0.1"), ("b", false, "no waves at p = 0"), ("c", true, "waves return when p = 0.1 is switched on"), ("d", false, "no waves at b = 0")] {
+    for (n, want, what) in [
+        ("a", true, "waves form at p = 0.1"),
+        ("b", false, "no waves at p = 0"),
+        ("c", true, "waves return when p = 0.1 is switched on"),
+        ("d", false, "no waves at b = 0"),
+    ] {
         let ok = if want { waves(n) } else { none(n) };
         checks.push(Check::claim(
             &format!("waves_{n}"),
@@ -175,7 +233,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     for (x, y) in [("a", "b"), ("a", "d"), ("c", "b"), ("c", "d")] {
         let (d, e, ok) = gt(x, y);
-        checks.push(Check::claim(&format!("s_low_{x}_gt_{y}"), d, e, ok, &format!("s_low_{x} - s_low_{y} > 2 SE")));
+        checks.push(Check::claim(
+            &format!("s_low_{x}_gt_{y}"),
+            d,
+            e,
+            ok,
+            &format!("s_low_{x} - s_low_{y} > 2 SE"),
+        ));
     }
     let summary = Summary {
         figure: "fig1".into(),

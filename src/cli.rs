@@ -48,6 +48,8 @@ impl PipeRules {
 impl Common {
     /// `--runs` if given, else the tier's default; at least 1.
     pub fn runs_or(&self, quick: usize, standard: usize, paper: usize) -> usize {
-        self.runs.unwrap_or(self.tier.pick(quick, standard, paper)).max(1)
+        self.runs
+            .unwrap_or(self.tier.pick(quick, standard, paper))
+            .max(1)
     }
 }

@@ -12,6 +12,7 @@
 //! open is a named variant.
 #![deny(missing_docs)]
 
+pub mod analysis;
 pub mod cli;
 pub mod error;
 pub mod lattice;

@@ -21,7 +21,14 @@ fn run_fig1(rules: &str, tag: &str) -> serde_json::Value {
         .status()
         .expect("fig1 runs");
     assert!(status.success());
-    for png in ["fig1.png", "fig1_a.png", "fig1_b.png", "fig1_c.png", "fig1_d.png", "bins_a.csv"] {
+    for png in [
+        "fig1.png",
+        "fig1_a.png",
+        "fig1_b.png",
+        "fig1_c.png",
+        "fig1_d.png",
+        "bins_a.csv",
+    ] {
         assert!(out.join("fig1").join(png).exists(), "{png} written");
     }
     let text = std::fs::read_to_string(out.join("fig1/summary.json")).unwrap();
@@ -46,12 +53,29 @@ fn default_rules_form_waves_in_a_and_c_only_and_any_mover_fails() {
         assert!(s["metrics"][key].as_f64().unwrap().is_finite(), "{key}");
     }
     assert_eq!(s["rules"], "ph94");
-    for name in ["waves_a", "waves_b", "waves_c", "waves_d", "s_low_a_gt_b", "s_low_a_gt_d", "s_low_c_gt_b", "s_low_c_gt_d"] {
-        assert!(check(&s, name), "default rules: {name} must pass: {}", s["metrics"]);
+    for name in [
+        "waves_a",
+        "waves_b",
+        "waves_c",
+        "waves_d",
+        "s_low_a_gt_b",
+        "s_low_a_gt_d",
+        "s_low_c_gt_b",
+        "s_low_c_gt_d",
+    ] {
+        assert!(
+            check(&s, name),
+            "default rules: {name} must pass: {}",
+            s["metrics"]
+        );
     }
     // the wrong model: no bands at p = 0.1, so the same checks fail
     let w = run_fig1("any-mover", "any-mover");
     for name in ["waves_a", "waves_c", "s_low_a_gt_b", "s_low_c_gt_d"] {
-        assert!(!check(&w, name), "any-mover: {name} must fail: {}", w["metrics"]);
+        assert!(
+            !check(&w, name),
+            "any-mover: {name} must fail: {}",
+            w["metrics"]
+        );
     }
 }

@@ -83,8 +83,9 @@ fn set(channels: &[usize]) -> u8 {
 impl CollisionTable {
     /// Build the table of R1-R5 for dissipation probability `p`.
     pub fn new(p: f64) -> Self {
-        let mut raw: Vec<(Rule, Vec<(u8, u8, f64)>)> =
-            (0..128u8).map(|s| (Rule::None, vec![(s, 0, 1.0)])).collect();
+        let mut raw: Vec<(Rule, Vec<(u8, u8, f64)>)> = (0..128u8)
+            .map(|s| (Rule::None, vec![(s, 0, 1.0)]))
+            .collect();
         for c in 1..=6 {
             let r = |k| rotate(c, k);
             // R1 {c, c+3} -> {c+1, c+4} or {c+2, c+5}, 1/2 each
@@ -146,7 +147,12 @@ impl CollisionTable {
             }
             s.push_str(&format!("{:?} {} ->", e.rule, names(state as u8)));
             for o in &e.outcomes {
-                s.push_str(&format!(" {} ({:.4}, +{})", names(o.state), o.prob, o.extra));
+                s.push_str(&format!(
+                    " {} ({:.4}, +{})",
+                    names(o.state),
+                    o.prob,
+                    o.extra
+                ));
             }
             s.push('\n');
         }
@@ -244,7 +250,14 @@ mod tests {
                         assert!((o.prob - p / 3.0).abs() < 1e-15);
                     }
                 }
-                Rule::R4 => assert_eq!(e.outcomes, vec![Outcome { state: REST_BIT, extra: 2, prob: 1.0 }]),
+                Rule::R4 => assert_eq!(
+                    e.outcomes,
+                    vec![Outcome {
+                        state: REST_BIT,
+                        extra: 2,
+                        prob: 1.0
+                    }]
+                ),
                 Rule::R5 => {
                     assert_eq!(e.outcomes.len(), 1);
                     assert_eq!(e.outcomes[0].extra, 1);
@@ -265,6 +278,8 @@ mod tests {
                 assert!(e.is_identity(s));
             }
         }
-        assert!(CollisionTable::new(0.5).describe().contains("R4 {rest, up, down} -> {rest} (1.0000, +2)"));
+        assert!(CollisionTable::new(0.5)
+            .describe()
+            .contains("R4 {rest, up, down} -> {rest} (1.0000, +2)"));
     }
 }

@@ -108,8 +108,17 @@ impl Params {
                 ),
             ));
         }
-        if self.width.checked_add(2).and_then(|w| w.checked_mul(self.length + 2)).is_none_or(|n| n > u32::MAX as usize) {
-            return Err(Error::out_of_range("W * L", self.width * self.length, "[1, 4e9]"));
+        if self
+            .width
+            .checked_add(2)
+            .and_then(|w| w.checked_mul(self.length + 2))
+            .is_none_or(|n| n > u32::MAX as usize)
+        {
+            return Err(Error::out_of_range(
+                "W * L",
+                self.width * self.length,
+                "[1, 4e9]",
+            ));
         }
         Ok(())
     }
@@ -306,13 +315,19 @@ impl Pipe {
 
     /// The state byte of site `(x, y)` (bit `c` = channel `c`).
     pub fn site(&self, x: usize, y: usize) -> u8 {
-        assert!(x < self.params.width && y < self.params.length, "site ({x}, {y}) outside the pipe");
+        assert!(
+            x < self.params.width && y < self.params.length,
+            "site ({x}, {y}) outside the pipe"
+        );
         self.cells[self.idx(x, y)]
     }
 
     /// Set the state byte of site `(x, y)` (for tests and prepared states).
     pub fn set_site(&mut self, x: usize, y: usize, state: u8) {
-        assert!(x < self.params.width && y < self.params.length, "site ({x}, {y}) outside the pipe");
+        assert!(
+            x < self.params.width && y < self.params.length,
+            "site ({x}, {y}) outside the pipe"
+        );
         let i = self.idx(x, y);
         self.cells[i] = state & 0x7f;
     }
@@ -382,7 +397,10 @@ impl Pipe {
                     0
                 } else {
                     let u = self.rng.next_u32() as u64;
-                    e.cumulative.iter().position(|&c| u < c).unwrap_or(e.outcomes.len() - 1)
+                    e.cumulative
+                        .iter()
+                        .position(|&c| u < c)
+                        .unwrap_or(e.outcomes.len() - 1)
                 };
                 let o = e.outcomes[k];
                 self.cells[i] = o.state;
@@ -405,7 +423,12 @@ impl Pipe {
     /// Number of rest particles on the lattice (not counting extras).
     pub fn rest_count(&self) -> u64 {
         (0..self.params.width)
-            .map(|x| self.column(x).iter().map(|&s| (s & REST_BIT) as u64).sum::<u64>())
+            .map(|x| {
+                self.column(x)
+                    .iter()
+                    .map(|&s| (s & REST_BIT) as u64)
+                    .sum::<u64>()
+            })
             .sum()
     }
 
@@ -669,14 +692,24 @@ impl Pipe {
     /// Total number of particles N (all channels).
     pub fn particle_count(&self) -> u64 {
         (0..self.params.width)
-            .map(|x| self.column(x).iter().map(|&s| s.count_ones() as u64).sum::<u64>())
+            .map(|x| {
+                self.column(x)
+                    .iter()
+                    .map(|&s| s.count_ones() as u64)
+                    .sum::<u64>()
+            })
             .sum()
     }
 
     /// Kinetic energy E = number of moving particles [PH95 Fig. 3b].
     pub fn moving_count(&self) -> u64 {
         (0..self.params.width)
-            .map(|x| self.column(x).iter().map(|&s| (s & MOVERS).count_ones() as u64).sum::<u64>())
+            .map(|x| {
+                self.column(x)
+                    .iter()
+                    .map(|&s| (s & MOVERS).count_ones() as u64)
+                    .sum::<u64>()
+            })
             .sum()
     }
 
@@ -715,7 +748,12 @@ impl Pipe {
     pub fn bin_count(&self, i: usize) -> u32 {
         let bin = self.params.bin;
         (0..self.params.width)
-            .map(|x| self.column(x)[i * bin..(i + 1) * bin].iter().map(|&s| s.count_ones()).sum::<u32>())
+            .map(|x| {
+                self.column(x)[i * bin..(i + 1) * bin]
+                    .iter()
+                    .map(|&s| s.count_ones())
+                    .sum::<u32>()
+            })
             .sum()
     }
 }
@@ -737,7 +775,10 @@ mod tests {
     fn a_lone_mover_propagates_to_its_neighbour() {
         for x in 1..3 {
             for c in 1..=6 {
-                let p = Params { g: 0.0, ..tiny(4, 6) };
+                let p = Params {
+                    g: 0.0,
+                    ..tiny(4, 6)
+                };
                 let mut pipe = Pipe::new(p, Rules::default(), 1).unwrap();
                 for xx in 0..4 {
                     for yy in 0..6 {
@@ -757,20 +798,36 @@ mod tests {
     fn walls_reflect_specularly_at_b0_and_bounce_back_at_b1() {
         for (b, expect_left, expect_right) in [(0.0, [6, 5], [2, 3]), (1.0, [5, 6], [3, 2])] {
             for (k, c) in [2usize, 3].into_iter().enumerate() {
-                let p = Params { g: 0.0, b, ..tiny(3, 4) };
+                let p = Params {
+                    g: 0.0,
+                    b,
+                    ..tiny(3, 4)
+                };
                 let mut pipe = Pipe::new(p, Rules::default(), 1).unwrap();
                 (0..3).for_each(|x| (0..4).for_each(|y| pipe.set_site(x, y, 0)));
                 pipe.set_site(0, 1, bit(c));
                 pipe.step().unwrap();
-                assert_eq!(pipe.site(0, 1), bit(expect_left[k]), "left wall b {b} c {c}");
+                assert_eq!(
+                    pipe.site(0, 1),
+                    bit(expect_left[k]),
+                    "left wall b {b} c {c}"
+                );
             }
             for (k, c) in [6usize, 5].into_iter().enumerate() {
-                let p = Params { g: 0.0, b, ..tiny(3, 4) };
+                let p = Params {
+                    g: 0.0,
+                    b,
+                    ..tiny(3, 4)
+                };
                 let mut pipe = Pipe::new(p, Rules::default(), 1).unwrap();
                 (0..3).for_each(|x| (0..4).for_each(|y| pipe.set_site(x, y, 0)));
                 pipe.set_site(2, 1, bit(c));
                 pipe.step().unwrap();
-                assert_eq!(pipe.site(2, 1), bit(expect_right[k]), "right wall b {b} c {c}");
+                assert_eq!(
+                    pipe.site(2, 1),
+                    bit(expect_right[k]),
+                    "right wall b {b} c {c}"
+                );
             }
         }
     }
@@ -791,10 +848,23 @@ mod tests {
 
     #[test]
     fn validation_names_the_value() {
-        let bad = Params { length: 25, ..Params::default() };
+        let bad = Params {
+            length: 25,
+            ..Params::default()
+        };
         let e = Pipe::new(bad, Rules::default(), 0).unwrap_err();
-        assert!(e.message.contains("L = 25") && e.message.contains("bin = 10"), "{}", e.message);
-        let bad = Params { rho: 6.01, ..Params::default() };
-        assert!(Pipe::new(bad, Rules::default(), 0).unwrap_err().message.contains("rho = 6.01"));
+        assert!(
+            e.message.contains("L = 25") && e.message.contains("bin = 10"),
+            "{}",
+            e.message
+        );
+        let bad = Params {
+            rho: 6.01,
+            ..Params::default()
+        };
+        assert!(Pipe::new(bad, Rules::default(), 0)
+            .unwrap_err()
+            .message
+            .contains("rho = 6.01"));
     }
 }

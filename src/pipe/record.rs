@@ -41,7 +41,12 @@ impl Record {
 /// Run `steps` steps, sampling the bins at the current time and then after
 /// every `every` steps (so `steps / every + 1` samples). `tick(done)` is called
 /// after each sample for progress bars.
-pub fn record(pipe: &mut Pipe, steps: u64, every: u64, mut tick: impl FnMut(u64)) -> Result<Record> {
+pub fn record(
+    pipe: &mut Pipe,
+    steps: u64,
+    every: u64,
+    mut tick: impl FnMut(u64),
+) -> Result<Record> {
     let every = every.max(1);
     let mut rec = Record {
         t0: pipe.time(),

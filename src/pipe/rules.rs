@@ -75,12 +75,21 @@ impl Default for Rules {
 /// Every name understood by [`Rules::from_str`], with its meaning.
 pub const RULE_NAMES: [(&str, &str); 7] = [
     ("default", "the MODEL.md default reading (= ph94)"),
-    ("ph94", "gravity turns movers only at sites holding a rest particle [PH94]"),
+    (
+        "ph94",
+        "gravity turns movers only at sites holding a rest particle [PH94]",
+    ),
     ("any-mover", "gravity turns every mover [PH95]"),
     ("up-to-rest", "any-mover plus up-movers stopping (1 -> 0)"),
-    ("wall-drag", "movers along a wall are bounced back (1 <-> 4) with probability b"),
+    (
+        "wall-drag",
+        "movers along a wall are bounced back (1 <-> 4) with probability b",
+    ),
     ("gravity-first", "gravity before the collision step"),
-    ("rest-up", "extra rest particles pile up on the nearest free site above"),
+    (
+        "rest-up",
+        "extra rest particles pile up on the nearest free site above",
+    ),
 ];
 
 impl fmt::Display for Rules {
@@ -159,7 +168,13 @@ mod tests {
     #[test]
     fn every_combination_round_trips() {
         for g in ["ph94", "any-mover", "up-to-rest"] {
-            for extra in ["", "+wall-drag", "+gravity-first", "+rest-up", "+wall-drag+gravity-first+rest-up"] {
+            for extra in [
+                "",
+                "+wall-drag",
+                "+gravity-first",
+                "+rest-up",
+                "+wall-drag+gravity-first+rest-up",
+            ] {
                 let s = format!("{g}{extra}");
                 let r: Rules = s.parse().unwrap();
                 assert_eq!(r.to_string(), s);
