@@ -185,3 +185,10 @@ mod tests {
         assert!(e.message.contains("'wall'") && e.message.contains("wall-drag"));
     }
 }
+
+impl serde::Serialize for Rules {
+    /// Serialised as its name, e.g. `"ph94+wall-drag"`.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.to_string())
+    }
+}
