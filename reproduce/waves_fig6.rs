@@ -22,7 +22,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let fig = SpectrumFigure {
         binary: "waves-fig6",
         paper: "PH95 Fig. 6",
-        params: Params { length: 220, width: 11, rho: 1.0, p: 0.8, g: 0.5, b: 0.5, ..Params::default() },
+        params: Params {
+            length: 220,
+            width: 11,
+            rho: 1.0,
+            p: 0.8,
+            g: 0.5,
+            b: 0.5,
+            ..Params::default()
+        },
         // "about 1.33": read as +- 0.05 (2.5 times PH94's quoted error)
         alpha: (1.33, 0.05),
         v_peak: None,

@@ -7,7 +7,9 @@
 
 use clap::Parser;
 use granular_automata::cli::{Common, PipeRules};
-use granular_automata::pipe::spectra::{spectrum_ensemble, spectrum_lines, spectrum_rows, tier_setup, tolerance, DISCREPANCY,};
+use granular_automata::pipe::spectra::{
+    spectrum_ensemble, spectrum_lines, spectrum_rows, tier_setup, tolerance, DISCREPANCY,
+};
 use granular_automata::pipe::Params;
 use granular_automata::plot::line_chart_at;
 use granular_automata::run::{derive_seed, mark_discrepancies, progress, Check, Output, Summary};
@@ -31,10 +33,35 @@ const WHITE: (f64, f64) = (0.0, 0.05);
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let rules = args.rules.parse()?;
-    let base = Params { length: 220, width: 11, rho: 1.0, g: 0.5, ..Params::default() };
-    let cases = [("p0", Params { p: 0.0, b: 0.5, ..base }), ("b0", Params { p: 0.5, b: 0.0, ..base })];
+    let base = Params {
+        length: 220,
+        width: 11,
+        rho: 1.0,
+        g: 0.5,
+        ..Params::default()
+    };
+    let cases = [
+        (
+            "p0",
+            Params {
+                p: 0.0,
+                b: 0.5,
+                ..base
+            },
+        ),
+        (
+            "b0",
+            Params {
+                p: 0.5,
+                b: 0.0,
+                ..base
+            },
+        ),
+    ];
     let runs = args.common.runs_or(4, 8, 8);
-    let seeds: Vec<u64> = (0..runs as u64).map(|i| derive_seed(args.common.seed, i)).collect();
+    let seeds: Vec<u64> = (0..runs as u64)
+        .map(|i| derive_seed(args.common.seed, i))
+        .collect();
     let out = Output::new(&args.common.out, "waves-fig7")?;
 
     let start = Instant::now();
@@ -44,7 +71,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for (name, params) in cases {
         let setup = tier_setup(args.common.tier, params, rules);
         let e = spectrum_ensemble(&setup, &seeds, &|n| pb.inc(n))?;
-        out.write_csv(&format!("spectrum_{name}.csv"), &["j", "frequency", "P"], &spectrum_rows(&e))?;
+        out.write_csv(
+            &format!("spectrum_{name}.csv"),
+            &["j", "frequency", "P"],
+            &spectrum_rows(&e),
+        )?;
         ens.push(e);
     }
     pb.finish();

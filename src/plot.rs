@@ -109,7 +109,7 @@ fn tick(v: f64, log: bool) -> String {
     let a = v.abs();
     if v == 0.0 {
         "0".to_string()
-    } else if log && (a < 0.01 || a >= 1e5) {
+    } else if log && !(0.01..1e5).contains(&a) {
         format!("{v:.0e}")
     } else if a >= 100.0 || (log && a >= 1.0) {
         format!("{v:.0}")
@@ -128,7 +128,15 @@ pub fn line_chart(
     lines: &[Line],
     log: bool,
 ) -> Result<()> {
-    line_chart_at(path, title, xlabel, ylabel, lines, log, SeriesLabelPosition::UpperRight)
+    line_chart_at(
+        path,
+        title,
+        xlabel,
+        ylabel,
+        lines,
+        log,
+        SeriesLabelPosition::UpperRight,
+    )
 }
 
 /// [`line_chart`] with the legend at `legend`.

@@ -161,6 +161,13 @@ impl FromStr for Rules {
     }
 }
 
+impl serde::Serialize for Rules {
+    /// Serialised as its name, e.g. `"ph94+wall-drag"`.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.to_string())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -183,12 +190,5 @@ mod tests {
         assert!("ph94+any-mover".parse::<Rules>().is_err());
         let e = "wall".parse::<Rules>().unwrap_err();
         assert!(e.message.contains("'wall'") && e.message.contains("wall-drag"));
-    }
-}
-
-impl serde::Serialize for Rules {
-    /// Serialised as its name, e.g. `"ph94+wall-drag"`.
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(&self.to_string())
     }
 }

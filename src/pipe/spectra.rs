@@ -8,8 +8,8 @@ use crate::analysis::fit::{estimate_alpha, wave_velocity, AlphaEstimate};
 use crate::analysis::spectrum::{average_spectra, spctrm, SpectrumParams, Window};
 use crate::error::Result;
 use crate::plot::{line_chart_at, Line, PALETTE};
-use plotters::chart::SeriesLabelPosition;
 use crate::run::{ensemble, mean_sem};
+use plotters::chart::SeriesLabelPosition;
 use serde::Serialize;
 use std::path::Path;
 
@@ -71,7 +71,11 @@ pub struct SpectrumRun {
 }
 
 /// Record the bin series of one run and analyse it. `tick(steps)` reports progress.
-pub fn bin_spectrum(setup: &SpectrumSetup, seed: u64, tick: &(dyn Fn(u64) + Sync)) -> Result<SpectrumRun> {
+pub fn bin_spectrum(
+    setup: &SpectrumSetup,
+    seed: u64,
+    tick: &(dyn Fn(u64) + Sync),
+) -> Result<SpectrumRun> {
     let mut pipe = Pipe::new(setup.params, setup.rules, seed)?;
     let chunk = 10_000u64;
     let mut left = setup.transient;
@@ -125,7 +129,11 @@ pub struct SpectrumEnsemble {
 }
 
 /// Run `seeds.len()` independent runs on all cores and combine them.
-pub fn spectrum_ensemble(setup: &SpectrumSetup, seeds: &[u64], tick: &(dyn Fn(u64) + Sync)) -> Result<SpectrumEnsemble> {
+pub fn spectrum_ensemble(
+    setup: &SpectrumSetup,
+    seeds: &[u64],
+    tick: &(dyn Fn(u64) + Sync),
+) -> Result<SpectrumEnsemble> {
     let runs: Vec<SpectrumRun> = ensemble(seeds.len(), |i| bin_spectrum(setup, seeds[i], tick))
         .into_iter()
         .collect::<Result<_>>()?;
@@ -175,12 +183,20 @@ pub fn spectrum_lines(ens: &SpectrumEnsemble, label: &str, c: usize) -> Vec<Line
     let (lo, hi) = crate::analysis::fit::default_fit_range(p.len());
     let fitted: Vec<(f64, f64)> = [lo, hi]
         .iter()
-        .map(|&j| (j as f64, 10f64.powf(fit.log10_amplitude - fit.alpha * (j as f64).log10())))
+        .map(|&j| {
+            (
+                j as f64,
+                10f64.powf(fit.log10_amplitude - fit.alpha * (j as f64).log10()),
+            )
+        })
         .collect();
     vec![
         Line::new(label, data, PALETTE[c % PALETTE.len()]),
         Line::new(
-            &format!("fit {lo}..{hi}: alpha = {:.2} (runs: {:.2} +- {:.2})", fit.alpha, ens.alpha, ens.alpha_err),
+            &format!(
+                "fit {lo}..{hi}: alpha = {:.2} (runs: {:.2} +- {:.2})",
+                fit.alpha, ens.alpha, ens.alpha_err
+            ),
             fitted,
             PALETTE[(c + 1) % PALETTE.len()],
         ),
@@ -197,7 +213,15 @@ pub fn spectrum_lines(ens: &SpectrumEnsemble, label: &str, c: usize) -> Vec<Line
 pub fn run_rows(ens: &SpectrumEnsemble) -> Vec<Vec<f64>> {
     ens.runs
         .iter()
-        .map(|r| vec![r.seed as f64, r.alpha, r.alpha_err, r.j_peak as f64, r.v_peak])
+        .map(|r| {
+            vec![
+                r.seed as f64,
+                r.alpha,
+                r.alpha_err,
+                r.j_peak as f64,
+                r.v_peak,
+            ]
+        })
         .collect()
 }
 
@@ -232,6 +256,30 @@ pub fn tolerance(measured_err: f64, published_err: f64) -> f64 {
     2.0 * (measured_err * measured_err + published_err * published_err).sqrt()
 }
 
+/// Sensitivity of alpha (fit of a spectrum) to the width of the excluded
+/// peak (`alpha_hw<w>` for the half-widths of
+/// [`crate::analysis::fit::default_sensitivity_widths`]) and to log-binning
+/// (`alpha_logbins`, 20 bins per decade, default exclusion).
+pub fn alpha_sensitivity_metrics(p: &[f64], j_peak: usize) -> Result<Vec<(String, f64)>> {
+    use crate::analysis::fit::{
+        alpha_sensitivity, default_peak_half_width, default_sensitivity_widths, exclude_peak,
+        fit_power_law, Binning, PowerLawParams,
+    };
+    let m = p.len();
+    let params = PowerLawParams::default_for(m);
+    let mut out: Vec<(String, f64)> =
+        alpha_sensitivity(p, &params, j_peak, &default_sensitivity_widths(m))?
+            .into_iter()
+            .map(|(w, f)| (format!("alpha_hw{w}"), f.alpha))
+            .collect();
+    let mut logb = params.clone();
+    logb.binning = Binning::LogBins { per_decade: 20 };
+    logb.exclude
+        .push(exclude_peak(j_peak, default_peak_half_width(m)));
+    out.push(("alpha_logbins".to_string(), fit_power_law(p, &logb)?.alpha));
+    Ok(out)
+}
+
 /// Why a spectral check may fail: the reason recorded with every failing check.
 pub const DISCREPANCY: &str =
     "known discrepancy of this rule reading, see EXPERIMENTS.md 'Known discrepancies'";
@@ -259,20 +307,37 @@ pub struct SpectrumFigure<'a> {
 /// Run an ensemble of spectra for `fig` at the options `common` and `rules`,
 /// write `spectrum.csv`, `runs.csv`, the PNG and `summary.json` (metrics
 /// `alpha`, `alpha_err`, `j_peak`, `v_peak`), and print the checks.
-pub fn run_figure(fig: &SpectrumFigure, common: &crate::cli::Common, rules: Rules) -> Result<crate::run::Summary> {
+pub fn run_figure(
+    fig: &SpectrumFigure,
+    common: &crate::cli::Common,
+    rules: Rules,
+) -> Result<crate::run::Summary> {
     use crate::run::{derive_seed, progress, Check, Output, Summary};
     let setup = tier_setup(common.tier, fig.params, rules);
     let runs = common.runs_or(4, 8, 8);
-    let seeds: Vec<u64> = (0..runs as u64).map(|i| derive_seed(common.seed, i)).collect();
+    let seeds: Vec<u64> = (0..runs as u64)
+        .map(|i| derive_seed(common.seed, i))
+        .collect();
     let out = Output::new(&common.out, fig.binary)?;
     let start = std::time::Instant::now();
-    let pb = progress(runs as u64 * setup.steps(), &format!("{} steps", fig.binary));
+    let pb = progress(
+        runs as u64 * setup.steps(),
+        &format!("{} steps", fig.binary),
+    );
     let ens = spectrum_ensemble(&setup, &seeds, &|n| pb.inc(n))?;
     pb.finish();
     let wall = start.elapsed().as_secs_f64();
 
-    out.write_csv("spectrum.csv", &["j", "frequency", "P"], &spectrum_rows(&ens))?;
-    out.write_csv("runs.csv", &["seed", "alpha", "alpha_err", "j_peak", "v_peak"], &run_rows(&ens))?;
+    out.write_csv(
+        "spectrum.csv",
+        &["j", "frequency", "P"],
+        &spectrum_rows(&ens),
+    )?;
+    out.write_csv(
+        "runs.csv",
+        &["seed", "alpha", "alpha_err", "j_peak", "v_peak"],
+        &run_rows(&ens),
+    )?;
     let p = &fig.params;
     plot_spectrum(
         &out.path(&format!("{}.png", fig.binary)),
@@ -286,20 +351,32 @@ pub fn run_figure(fig: &SpectrumFigure, common: &crate::cli::Common, rules: Rule
     let mut metrics = std::collections::BTreeMap::new();
     metrics.insert("alpha".to_string(), ens.alpha);
     metrics.insert("alpha_err".to_string(), ens.alpha_err);
-    metrics.insert("alpha_of_mean_spectrum".to_string(), ens.fit_of_mean.fit.alpha);
+    metrics.insert(
+        "alpha_of_mean_spectrum".to_string(),
+        ens.fit_of_mean.fit.alpha,
+    );
     metrics.insert("j_peak".to_string(), ens.j_peak as f64);
     // j in units of the papers' m = 16384, for comparison with PH94's j = 596
-    metrics.insert("j_peak_m16384".to_string(), ens.j_peak as f64 * 16384.0 / setup.m as f64);
+    metrics.insert(
+        "j_peak_m16384".to_string(),
+        ens.j_peak as f64 * 16384.0 / setup.m as f64,
+    );
     metrics.insert("v_peak".to_string(), ens.v_peak);
     metrics.insert("v_peak_err".to_string(), ens.v_err);
     metrics.insert("peak_contrast".to_string(), ens.fit_of_mean.contrast);
+    for (name, value) in alpha_sensitivity_metrics(&ens.mean_spectrum, ens.j_peak)? {
+        metrics.insert(name, value);
+    }
     let mut checks = vec![Check::new(
         "alpha",
         ens.alpha,
         ens.alpha_err,
         Some(fig.alpha.0),
         tolerance(ens.alpha_err, fig.alpha.1),
-        &format!("tolerance = 2 sqrt(SE_runs^2 + {}^2){}", fig.alpha.1, fig.note),
+        &format!(
+            "tolerance = 2 sqrt(SE_runs^2 + {}^2){}",
+            fig.alpha.1, fig.note
+        ),
     )];
     if let Some(v) = fig.v_peak {
         checks.push(Check::new(
