@@ -12,8 +12,8 @@
 //! use granular_automata::lattice::{neighbour_offset, opposite, DOWN, UP};
 //! assert_eq!(opposite(UP), DOWN);
 //! // the up-left neighbour of an odd column is one row higher
-//! assert_eq!(neighbour_offset(3, 2), (-1, 1));
-//! assert_eq!(neighbour_offset(4, 2), (-1, 0));
+//! assert_eq!(neighbour_offset(2, 3), (-1, 1));
+//! assert_eq!(neighbour_offset(2, 4), (-1, 0));
 //! ```
 
 /// Rest (no velocity); channel 0 of the pipe gas.
