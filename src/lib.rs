@@ -13,6 +13,7 @@
 #![deny(missing_docs)]
 
 pub mod error;
+pub mod hopper;
 pub mod lattice;
 pub mod plot;
 pub mod run;
