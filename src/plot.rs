@@ -131,7 +131,9 @@ pub fn line_chart(
                     .points
                     .iter()
                     .copied()
-                    .filter(|&(x, y)| x.is_finite() && y.is_finite() && (!log || (x > 0.0 && y > 0.0)))
+                    .filter(|&(x, y)| {
+                        x.is_finite() && y.is_finite() && (!log || (x > 0.0 && y > 0.0))
+                    })
                     .collect();
                 let color = l.color;
                 if l.markers {
@@ -171,7 +173,9 @@ pub fn line_chart(
             .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
             .map_err(plot_err)?);
     } else {
-        draw!(builder.build_cartesian_2d(x0..x1, y0..y1).map_err(plot_err)?);
+        draw!(builder
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(plot_err)?);
     }
     root.present().map_err(plot_err)?;
     Ok(())
@@ -202,7 +206,11 @@ pub struct SpaceTime<'a> {
 
 impl SpaceTime<'_> {
     /// Draw onto a drawing area with axes, title and labels.
-    pub fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, plotters::coord::Shift>, title: &str) -> Result<()>
+    pub fn draw<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, plotters::coord::Shift>,
+        title: &str,
+    ) -> Result<()>
     where
         DB::ErrorType: 'static,
     {
@@ -243,7 +251,11 @@ impl SpaceTime<'_> {
         let span = (self.black - self.white).abs().max(1e-12);
         for ix in 0..px {
             let fx = (ix as f64 + 0.5) / px as f64;
-            let ft = if self.time_right_to_left { 1.0 - fx } else { fx };
+            let ft = if self.time_right_to_left {
+                1.0 - fx
+            } else {
+                fx
+            };
             let t = ((ft * nt as f64) as usize).min(nt - 1);
             for iy in 0..py {
                 let fy = (iy as f64 + 0.5) / py as f64; // 0 at top
@@ -253,8 +265,14 @@ impl SpaceTime<'_> {
                 let level = ((v - self.white) / span).clamp(0.0, 1.0);
                 let g = (255.0 * (1.0 - level)).round() as u8;
                 let (x, y) = plot.get_base_pixel();
-                area.draw_pixel((x + ix as i32 - area.get_base_pixel().0, y + iy as i32 - area.get_base_pixel().1), &RGBColor(g, g, g))
-                    .map_err(plot_err)?;
+                area.draw_pixel(
+                    (
+                        x + ix as i32 - area.get_base_pixel().0,
+                        y + iy as i32 - area.get_base_pixel().1,
+                    ),
+                    &RGBColor(g, g, g),
+                )
+                .map_err(plot_err)?;
             }
         }
         Ok(())

@@ -106,9 +106,11 @@ where
 pub fn progress(len: u64, what: &str) -> ProgressBar {
     let pb = ProgressBar::new(len);
     pb.set_style(
-        ProgressStyle::with_template("{msg:>14} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})")
-            .expect("valid template")
-            .progress_chars("=> "),
+        ProgressStyle::with_template(
+            "{msg:>14} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
     );
     pb.set_message(what.to_string());
     pb
@@ -228,7 +230,10 @@ impl Output {
         fs::create_dir_all(&dir).map_err(|e| {
             Error::new(
                 ErrorKind::Io,
-                format!("cannot create output folder {}: {e}; choose another --out", dir.display()),
+                format!(
+                    "cannot create output folder {}: {e}; choose another --out",
+                    dir.display()
+                ),
             )
         })?;
         Ok(Output { dir })
@@ -280,8 +285,12 @@ impl Output {
 /// half-written file behind.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let tmp = path.with_extension("tmp~");
-    let mut f = fs::File::create(&tmp)
-        .map_err(|e| Error::new(ErrorKind::Io, format!("cannot write {}: {e}", tmp.display())))?;
+    let mut f = fs::File::create(&tmp).map_err(|e| {
+        Error::new(
+            ErrorKind::Io,
+            format!("cannot write {}: {e}", tmp.display()),
+        )
+    })?;
     f.write_all(bytes)?;
     f.sync_all().ok();
     drop(f);

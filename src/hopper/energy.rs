@@ -252,12 +252,19 @@ impl EnergyTable {
 
     /// A printable table of F_shear^alpha * F_orient^beta (rows: grain i).
     pub fn describe(&self) -> String {
-        let mut s = String::from("pair factor F_shear^alpha * F_orient^beta, row = (O_i, v_i), column = (O_N, v_N)\n");
+        let mut s = String::from(
+            "pair factor F_shear^alpha * F_orient^beta, row = (O_i, v_i), column = (O_N, v_N)\n",
+        );
         for si in 0..STATES {
             let row: Vec<String> = (0..STATES)
                 .map(|sn| format!("{:.4}", self.pair[si * STATES + sn]))
                 .collect();
-            s.push_str(&format!("O{} v{}: {}\n", orientation(si), motion(si), row.join(" ")));
+            s.push_str(&format!(
+                "O{} v{}: {}\n",
+                orientation(si),
+                motion(si),
+                row.join(" ")
+            ));
         }
         s
     }

@@ -17,6 +17,7 @@
 //! ```
 
 pub mod energy;
+pub mod experiment;
 pub mod geometry;
 pub mod model;
 pub mod observables;

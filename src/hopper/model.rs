@@ -277,7 +277,9 @@ impl Hopper {
     fn pair_weight(&self, i: usize, j: usize) -> f64 {
         match self.params.dilation.reading {
             DilationReading::Unit => self.table.dilation_weight(1.0),
-            _ => self.table.dilation_weight(0.5 * (self.dil[i] + self.dil[j])),
+            _ => self
+                .table
+                .dilation_weight(0.5 * (self.dil[i] + self.dil[j])),
         }
     }
 
@@ -298,7 +300,9 @@ impl Hopper {
             let nb = self.geom.nbr[i];
             let hole_below = self.hole(nb[2]) || self.hole(nb[3]) || self.hole(nb[4]);
             let moving_nbr = nb.iter().any(|&j| {
-                j != OFF && is_grain(self.site[j as usize]) && motion(grain_state(self.site[j as usize])) != 0
+                j != OFF
+                    && is_grain(self.site[j as usize])
+                    && motion(grain_state(self.site[j as usize])) != 0
             });
             let new_s = if hole_below || moving_nbr {
                 report.evaluated += 1;
@@ -497,7 +501,8 @@ impl Hopper {
         self.iteration - start
     }
 
-    /// Debug: energies of all candidate states of grain `i`.
+    /// Energies E_i of every candidate state of grain `i` in the current
+    /// configuration, as `(state, E)` (for inspection and tests).
     pub fn debug_energies(&self, i: usize) -> Vec<(usize, f64)> {
         let nb = self.geom.nbr[i];
         let hole_below = self.hole(nb[2]) || self.hole(nb[3]) || self.hole(nb[4]);

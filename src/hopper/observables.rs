@@ -179,7 +179,13 @@ pub fn orientation_correlation(h: &Hopper, rmax: usize) -> Vec<f64> {
     equal
         .iter()
         .zip(&pairs)
-        .map(|(&e, &p)| if p == 0 { f64::NAN } else { e as f64 / p as f64 })
+        .map(|(&e, &p)| {
+            if p == 0 {
+                f64::NAN
+            } else {
+                e as f64 / p as f64
+            }
+        })
         .collect()
 }
 
@@ -360,10 +366,13 @@ mod tests {
         assert!(s.abs() < 3.0 * e + 0.05, "slope {s} +- {e}");
         // a random walk is red
         let mut acc = 0.0;
-        let w: Vec<f64> = x.iter().map(|v| {
-            acc += v - 0.5;
-            acc
-        }).collect();
+        let w: Vec<f64> = x
+            .iter()
+            .map(|v| {
+                acc += v - 0.5;
+                acc
+            })
+            .collect();
         let (s, _) = log_log_slope(&periodogram(&w, 64).unwrap()).unwrap();
         assert!(s < -1.5, "slope {s}");
     }

@@ -114,8 +114,12 @@ pub fn draw_snapshots(
             .map_err(plot_err)?;
         root.draw(&Rectangle::new([(lx, ly), (lx + 20, ly + 20)], BLACK))
             .map_err(plot_err)?;
-        root.draw(&Text::new(name.clone(), (lx + 26, ly + 2), (FONT, 16).into_font().color(&BLACK)))
-            .map_err(plot_err)?;
+        root.draw(&Text::new(
+            name.clone(),
+            (lx + 26, ly + 2),
+            (FONT, 16).into_font().color(&BLACK),
+        ))
+        .map_err(plot_err)?;
         lx += 40 + 9 * name.chars().count() as i32;
     }
     root.present().map_err(plot_err)?;
