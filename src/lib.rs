@@ -12,9 +12,12 @@
 //! open is a named variant.
 #![deny(missing_docs)]
 
+pub mod analysis;
+pub mod cli;
 pub mod error;
 pub mod hopper;
 pub mod lattice;
+pub mod pipe;
 pub mod plot;
 pub mod run;
 

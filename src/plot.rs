@@ -240,6 +240,8 @@ impl SpaceTime<'_> {
         chart
             .configure_mesh()
             .disable_mesh()
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| format!("{v:.0}"))
             .x_desc(time_label)
             .y_desc("height y (rows), gravity downwards")
             .label_style((FONT, 13))

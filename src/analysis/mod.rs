@@ -1,0 +1,12 @@
+//! Analysis of recorded time series (MODEL.md A9): power spectra of bin
+//! densities and what is read off them.
+//!
+//! - [`spectrum`]: the Numerical Recipes (1988) `spctrm` estimator without
+//!   overlap (MODEL.md A9 "Power spectrum"), with the 1988 "Parzen" triangle
+//!   as the default window.
+//! - [`fit`]: least squares, the exponent alpha of P(j) ~ j^-alpha with the
+//!   sharp peak removed (A9 "Exponent alpha"), peak finding and the wave
+//!   velocity from the peak (A9 "Wave velocity from the peak").
+
+pub mod fit;
+pub mod spectrum;

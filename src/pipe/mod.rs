@@ -1,0 +1,870 @@
+//! The Peng-Herrmann pipe lattice gas (MODEL.md Part A; [PH94], [PH95]).
+//!
+//! Particles on a triangular lattice of `W` columns and `L` rows, seven
+//! Boolean channels per site stored as one byte (bit `c` = channel `c`, bit 0
+//! = rest particle). One step is: collision (A3) with relocation of extra rest
+//! particles (A4), gravity (A5), propagation with walls (A6), in that order
+//! unless the [`Rules`] say otherwise. A run is a pure function of its
+//! parameters, rules and seed.
+//!
+//! ```
+//! use granular_automata::pipe::{Params, Pipe, Rules};
+//! let params = Params { length: 60, width: 5, ..Params::default() };
+//! let mut pipe = Pipe::new(params, Rules::default(), 7).unwrap();
+//! let n0 = pipe.particle_count();
+//! pipe.run(100).unwrap();
+//! assert_eq!(pipe.particle_count(), n0); // the periodic pipe conserves mass
+//! assert_eq!(pipe.bin_counts().len(), 6); // bins of 10 rows
+//! ```
+
+pub mod collision;
+pub mod observables;
+pub mod record;
+pub mod rules;
+
+pub use rules::{GravityWording, RestPlacement, Rules};
+
+use crate::error::{check_min, check_range, check_unit, Error, ErrorKind, Result};
+use crate::lattice::neighbour;
+use collision::{bit, threshold, CollisionTable, Entry, MOVERS, REST_BIT};
+use rand::{Rng, RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use serde::Serialize;
+
+/// What happens at the two ends of the pipe (MODEL.md A7).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum Boundary {
+    /// Rows wrap around: row L-1 neighbours row 0.
+    Periodic,
+    /// Open pipe [PH95 I]: starts empty; each step every empty inward channel
+    /// (3, 4, 5) of the top row is filled with probability `inject`; particles
+    /// leaving below row 0 are outflow, particles leaving above row L-1 are
+    /// lost (counted separately).
+    Open {
+        /// Injection probability I per empty inward channel of the top row.
+        inject: f64,
+    },
+}
+
+/// Parameters of a pipe run (MODEL.md A1-A9).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Params {
+    /// W: number of columns (pipe width), >= 1.
+    pub width: usize,
+    /// L: number of rows (pipe length), a multiple of `bin`.
+    pub length: usize,
+    /// rho: mean number of moving particles per site at the start, in [0, 6] (A8).
+    pub rho: f64,
+    /// p: probability of a dissipative collision (A3).
+    pub p: f64,
+    /// g: probability of a gravity move (A5).
+    pub g: f64,
+    /// b: wall roughness, the bounce-back probability at the walls (A6).
+    pub b: f64,
+    /// Rows per bin for the bin densities n_i (A9), 10 in the papers.
+    pub bin: usize,
+    /// Periodic or open pipe (A7).
+    pub boundary: Boundary,
+}
+
+impl Default for Params {
+    /// PH94 Fig. 2: L = 220, W = 11, rho = 1, p = g = b = 0.5, bins of 10.
+    fn default() -> Self {
+        Params {
+            width: 11,
+            length: 220,
+            rho: 1.0,
+            p: 0.5,
+            g: 0.5,
+            b: 0.5,
+            bin: 10,
+            boundary: Boundary::Periodic,
+        }
+    }
+}
+
+impl Params {
+    /// Check every parameter against its allowed range (MODEL.md A8, issue 2).
+    pub fn validate(&self) -> Result<()> {
+        check_min("W (width)", self.width, 1)?;
+        check_min("L (length)", self.length, 1)?;
+        check_min("bin", self.bin, 1)?;
+        check_range("rho", self.rho, 0.0, 6.0)?;
+        check_unit("p", self.p)?;
+        check_unit("g", self.g)?;
+        check_unit("b", self.b)?;
+        if let Boundary::Open { inject } = self.boundary {
+            check_unit("I (injection)", inject)?;
+        }
+        if self.length % self.bin != 0 {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!(
+                    "L = {} is not a multiple of bin = {}; choose L in {{{}, {}, ...}} or a bin size dividing L",
+                    self.length,
+                    self.bin,
+                    self.bin,
+                    2 * self.bin
+                ),
+            ));
+        }
+        if self
+            .width
+            .checked_add(2)
+            .and_then(|w| w.checked_mul(self.length + 2))
+            .is_none_or(|n| n > u32::MAX as usize)
+        {
+            return Err(Error::out_of_range(
+                "W * L",
+                self.width * self.length,
+                "[1, 4e9]",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Number of bins K = L / bin.
+    pub fn bins(&self) -> usize {
+        self.length / self.bin
+    }
+
+    /// Number of sites W * L.
+    pub fn sites(&self) -> usize {
+        self.width * self.length
+    }
+}
+
+/// Counters of the open pipe (MODEL.md A7): injected - out_bottom - out_top
+/// equals the change of the particle number, exactly.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct Flux {
+    /// Particles injected at the top so far.
+    pub injected: u64,
+    /// Particles that left below row 0 (the outflow).
+    pub out_bottom: u64,
+    /// Particles that left above row L-1.
+    pub out_top: u64,
+}
+
+/// Gravity moves (from channel, to channel) possible in one state.
+#[derive(Debug, Clone, Copy, Default)]
+struct Moves {
+    n: u8,
+    moves: [(u8, u8); 4],
+}
+
+/// The state of a pipe run.
+#[derive(Debug, Clone)]
+pub struct Pipe {
+    params: Params,
+    rules: Rules,
+    rng: Xoshiro256PlusPlus,
+    /// Site bytes, column-major with one ghost row at each end of every column
+    /// and one ghost column on each side: index `(x + 1) * (L + 2) + y + 1`.
+    cells: Vec<u8>,
+    next: Vec<u8>,
+    stride: usize,
+    table: CollisionTable,
+    /// Per state: 0 = unchanged, 1 = one certain outcome, 2 = random outcome.
+    kind: [u8; 128],
+    gravity_moves: [Moves; 128],
+    g_t: u64,
+    b_t: u64,
+    inject_t: u64,
+    extras: Vec<u32>,
+    time: u64,
+    flux: Flux,
+}
+
+/// True with probability `t / 2^32`; draws only when the outcome is uncertain.
+#[inline]
+fn chance(rng: &mut Xoshiro256PlusPlus, t: u64) -> bool {
+    if t == 0 {
+        false
+    } else if t >= 1 << 32 {
+        true
+    } else {
+        (rng.next_u32() as u64) < t
+    }
+}
+
+fn gravity_table(wording: GravityWording) -> [Moves; 128] {
+    let mut t = [Moves::default(); 128];
+    for (s, m) in t.iter_mut().enumerate() {
+        let s = s as u8;
+        let has = |c: usize| s & bit(c) != 0;
+        let mut add = |from: usize, to: usize| {
+            if has(from) && !has(to) {
+                m.moves[m.n as usize] = (from as u8, to as u8);
+                m.n += 1;
+            }
+        };
+        add(0, 4); // a rest particle falls
+        let movers_turn = match wording {
+            GravityWording::Ph94 => has(0),
+            GravityWording::AnyMover | GravityWording::UpToRest => true,
+        };
+        if movers_turn {
+            add(2, 3);
+            add(6, 5);
+        }
+        if wording == GravityWording::UpToRest {
+            add(1, 0);
+        }
+    }
+    t
+}
+
+impl Pipe {
+    /// A new run: validates `params`, builds the rule tables for `rules`, and
+    /// draws the initial state (A8) from `seed`. The open pipe starts empty.
+    pub fn new(params: Params, rules: Rules, seed: u64) -> Result<Self> {
+        params.validate()?;
+        let stride = params.length + 2;
+        let n = (params.width + 2) * stride;
+        let mut pipe = Pipe {
+            params,
+            rules,
+            rng: Xoshiro256PlusPlus::seed_from_u64(seed),
+            cells: vec![0; n],
+            next: vec![0; n],
+            stride,
+            table: CollisionTable::new(params.p),
+            kind: [0; 128],
+            gravity_moves: gravity_table(rules.gravity),
+            g_t: threshold(params.g),
+            b_t: threshold(params.b),
+            inject_t: match params.boundary {
+                Boundary::Open { inject } => threshold(inject),
+                Boundary::Periodic => 0,
+            },
+            extras: Vec::new(),
+            time: 0,
+            flux: Flux::default(),
+        };
+        pipe.build_kinds();
+        if params.boundary == Boundary::Periodic {
+            let t = threshold(params.rho / 6.0);
+            for x in 0..params.width {
+                for y in 0..params.length {
+                    let mut s = 0u8;
+                    for c in 1..=6 {
+                        if chance(&mut pipe.rng, t) {
+                            s |= bit(c);
+                        }
+                    }
+                    let i = pipe.idx(x, y);
+                    pipe.cells[i] = s;
+                }
+            }
+        }
+        Ok(pipe)
+    }
+
+    fn build_kinds(&mut self) {
+        for s in 0..128u8 {
+            let e: &Entry = &self.table.entries[s as usize];
+            self.kind[s as usize] = if e.is_identity(s) {
+                0
+            } else if e.outcomes.len() == 1 {
+                1
+            } else {
+                2
+            };
+        }
+    }
+
+    /// Change the dissipation p mid-run (PH94 Fig. 1c); validated.
+    pub fn set_p(&mut self, p: f64) -> Result<()> {
+        check_unit("p", p)?;
+        self.params.p = p;
+        self.table = CollisionTable::new(p);
+        self.build_kinds();
+        Ok(())
+    }
+
+    /// The parameters of this run.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// The rule reading of this run.
+    pub fn rules(&self) -> Rules {
+        self.rules
+    }
+
+    /// Steps done so far.
+    pub fn time(&self) -> u64 {
+        self.time
+    }
+
+    /// Injection and outflow counters (open pipe).
+    pub fn flux(&self) -> Flux {
+        self.flux
+    }
+
+    /// The collision table in use.
+    pub fn collision_table(&self) -> &CollisionTable {
+        &self.table
+    }
+
+    #[inline]
+    fn idx(&self, x: usize, y: usize) -> usize {
+        (x + 1) * self.stride + y + 1
+    }
+
+    /// The state byte of site `(x, y)` (bit `c` = channel `c`).
+    pub fn site(&self, x: usize, y: usize) -> u8 {
+        assert!(
+            x < self.params.width && y < self.params.length,
+            "site ({x}, {y}) outside the pipe"
+        );
+        self.cells[self.idx(x, y)]
+    }
+
+    /// Set the state byte of site `(x, y)` (for tests and prepared states).
+    pub fn set_site(&mut self, x: usize, y: usize, state: u8) {
+        assert!(
+            x < self.params.width && y < self.params.length,
+            "site ({x}, {y}) outside the pipe"
+        );
+        let i = self.idx(x, y);
+        self.cells[i] = state & 0x7f;
+    }
+
+    /// Iterate over the real sites' bytes of column `x`, bottom to top.
+    pub fn column(&self, x: usize) -> &[u8] {
+        let start = self.idx(x, 0);
+        &self.cells[start..start + self.params.length]
+    }
+
+    /// Advance `steps` steps.
+    pub fn run(&mut self, steps: u64) -> Result<()> {
+        for _ in 0..steps {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// One time step (MODEL.md A2): [injection], collision and relocation,
+    /// gravity, [wall drag], propagation.
+    pub fn step(&mut self) -> Result<()> {
+        if let Boundary::Open { .. } = self.params.boundary {
+            self.inject();
+        }
+        if self.rules.gravity_first {
+            self.gravity();
+            self.collide()?;
+        } else {
+            self.collide()?;
+            self.gravity();
+        }
+        if self.rules.wall_drag {
+            self.wall_drag();
+        }
+        self.propagate();
+        self.time += 1;
+        Ok(())
+    }
+
+    fn inject(&mut self) {
+        let y = self.params.length - 1;
+        for x in 0..self.params.width {
+            let i = self.idx(x, y);
+            for c in [3, 4, 5] {
+                if self.cells[i] & bit(c) == 0 && chance(&mut self.rng, self.inject_t) {
+                    self.cells[i] |= bit(c);
+                    self.flux.injected += 1;
+                }
+            }
+        }
+    }
+
+    /// Collision step (A3) at every site, then relocation (A4).
+    fn collide(&mut self) -> Result<()> {
+        self.extras.clear();
+        let (w, l) = (self.params.width, self.params.length);
+        for x in 0..w {
+            let start = (x + 1) * self.stride + 1;
+            for i in start..start + l {
+                let s = self.cells[i] as usize;
+                let kind = self.kind[s];
+                if kind == 0 {
+                    continue;
+                }
+                let e = &self.table.entries[s];
+                let k = if kind == 1 {
+                    0
+                } else {
+                    let u = self.rng.next_u32() as u64;
+                    e.cumulative
+                        .iter()
+                        .position(|&c| u < c)
+                        .unwrap_or(e.outcomes.len() - 1)
+                };
+                let o = e.outcomes[k];
+                self.cells[i] = o.state;
+                for _ in 0..o.extra {
+                    self.extras.push(i as u32);
+                }
+            }
+        }
+        if self.extras.is_empty() {
+            Ok(())
+        } else {
+            self.relocate()
+        }
+    }
+
+    fn coords(&self, i: usize) -> (usize, usize) {
+        (i / self.stride - 1, i % self.stride - 1)
+    }
+
+    /// Number of rest particles on the lattice (not counting extras).
+    pub fn rest_count(&self) -> u64 {
+        (0..self.params.width)
+            .map(|x| {
+                self.column(x)
+                    .iter()
+                    .map(|&s| (s & REST_BIT) as u64)
+                    .sum::<u64>()
+            })
+            .sum()
+    }
+
+    /// Relocation of extra rest particles (A4): sites in row-major order
+    /// (row by row from the bottom, left to right), one particle at a time.
+    fn relocate(&mut self) -> Result<()> {
+        let sites = self.params.sites() as u64;
+        let total = self.rest_count() + self.extras.len() as u64;
+        if total > sites {
+            let p = &self.params;
+            return Err(Error::new(
+                ErrorKind::RestExceedsSites,
+                format!(
+                    "at step {}: {} rest particles for {} sites (rho = {}, p = {}, g = {}, b = {}, W = {}, L = {}); \
+                     the model is undefined here [PH95 G]: lower rho or p",
+                    self.time, total, sites, p.rho, p.p, p.g, p.b, p.width, p.length
+                ),
+            ));
+        }
+        let mut extras = std::mem::take(&mut self.extras);
+        let w = self.params.width;
+        let stride = self.stride;
+        extras.sort_by_key(|&i| {
+            let (x, y) = (i as usize / stride - 1, i as usize % stride - 1);
+            y * w + x
+        });
+        for &i in &extras {
+            let (x, y) = self.coords(i as usize);
+            let placed = match self.rules.rest {
+                RestPlacement::RestUp => self.place_above(x, y),
+                RestPlacement::RandomWalk => false,
+            };
+            if !placed {
+                self.random_walk(x, y)?;
+            }
+        }
+        self.extras = extras;
+        Ok(())
+    }
+
+    /// `rest-up`: the nearest site above in the column with an empty rest channel.
+    fn place_above(&mut self, x: usize, y: usize) -> bool {
+        let l = self.params.length;
+        let periodic = self.params.boundary == Boundary::Periodic;
+        for d in 1..l {
+            let mut ny = y + d;
+            if ny >= l {
+                if !periodic {
+                    return false;
+                }
+                ny -= l;
+            }
+            let i = self.idx(x, ny);
+            if self.cells[i] & REST_BIT == 0 {
+                self.cells[i] |= REST_BIT;
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Random walk over neighbouring sites (walls and rows outside the open
+    /// pipe excluded) until a site with an empty rest channel is reached.
+    fn random_walk(&mut self, mut x: usize, mut y: usize) -> Result<()> {
+        let (w, l) = (self.params.width as i64, self.params.length as i64);
+        let periodic = self.params.boundary == Boundary::Periodic;
+        let bound = 1000 * self.params.sites() as u64 + 1_000_000;
+        for _ in 0..bound {
+            let mut cand = [(0usize, 0usize); 6];
+            let mut n = 0;
+            for c in 1..=6 {
+                let (nx, mut ny) = neighbour(x, y, c);
+                if nx < 0 || nx >= w {
+                    continue;
+                }
+                if periodic {
+                    ny = ny.rem_euclid(l);
+                } else if ny < 0 || ny >= l {
+                    continue;
+                }
+                cand[n] = (nx as usize, ny as usize);
+                n += 1;
+            }
+            if n == 0 {
+                break;
+            }
+            let k = self.rng.random_range(0..n as u32) as usize;
+            (x, y) = cand[k];
+            let i = self.idx(x, y);
+            if self.cells[i] & REST_BIT == 0 {
+                self.cells[i] |= REST_BIT;
+                return Ok(());
+            }
+        }
+        Err(Error::new(
+            ErrorKind::RelocationStuck,
+            format!(
+                "at step {}: an extra rest particle found no empty rest channel within {bound} hops \
+                 (W = {}, L = {}, rho = {}, p = {}); the lattice is (nearly) full of rest particles: lower rho or p",
+                self.time, self.params.width, self.params.length, self.params.rho, self.params.p
+            ),
+        ))
+    }
+
+    /// Gravity step (A5) at every site, with the moves tabulated per state.
+    fn gravity(&mut self) {
+        if self.g_t == 0 {
+            return;
+        }
+        let (w, l) = (self.params.width, self.params.length);
+        for x in 0..w {
+            let start = (x + 1) * self.stride + 1;
+            for i in start..start + l {
+                let s = self.cells[i];
+                let m = self.gravity_moves[s as usize];
+                if m.n == 0 {
+                    continue;
+                }
+                let mut new = s;
+                for &(from, to) in &m.moves[..m.n as usize] {
+                    if chance(&mut self.rng, self.g_t) {
+                        new = (new & !bit(from as usize)) | bit(to as usize);
+                    }
+                }
+                self.cells[i] = new;
+            }
+        }
+    }
+
+    /// `wall-drag` (A6 variant): movers along a wall column bounce back (1 <-> 4).
+    fn wall_drag(&mut self) {
+        let w = self.params.width;
+        let cols: &[usize] = if w == 1 { &[0] } else { &[0, w - 1] };
+        for &x in cols {
+            for y in 0..self.params.length {
+                let i = self.idx(x, y);
+                let s = self.cells[i];
+                let (up, down) = (s & bit(1) != 0, s & bit(4) != 0);
+                if up != down && chance(&mut self.rng, self.b_t) {
+                    self.cells[i] = s ^ (bit(1) | bit(4));
+                }
+            }
+        }
+    }
+
+    /// Count particles that propagation moves out through the ends (open pipe).
+    fn count_exits(&mut self) {
+        let (w, l) = (self.params.width, self.params.length);
+        let rows: &[usize] = if l == 1 { &[0] } else { &[0, l - 1] };
+        for &y in rows {
+            for x in 0..w {
+                let s = self.cells[self.idx(x, y)];
+                for c in 1..=6 {
+                    if s & bit(c) == 0 {
+                        continue;
+                    }
+                    let (nx, ny) = neighbour(x, y, c);
+                    if nx < 0 || nx >= w as i64 {
+                        continue; // reflected by the wall
+                    }
+                    if ny < 0 {
+                        self.flux.out_bottom += 1;
+                    } else if ny >= l as i64 {
+                        self.flux.out_top += 1;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Propagation (A4 step 4) with walls (A6): every mover moves to its
+    /// neighbour; at a wall it stays and is bounced back (probability b) or
+    /// specularly reflected.
+    fn propagate(&mut self) {
+        let (w, l, st) = (self.params.width, self.params.length, self.stride);
+        match self.params.boundary {
+            Boundary::Periodic => {
+                for x in 0..w {
+                    let c = (x + 1) * st;
+                    self.cells[c] = self.cells[c + l];
+                    self.cells[c + l + 1] = self.cells[c + 1];
+                }
+            }
+            Boundary::Open { .. } => self.count_exits(),
+        }
+        const B0: u8 = 1;
+        const B1: u8 = 1 << 1;
+        const B2: u8 = 1 << 2;
+        const B3: u8 = 1 << 3;
+        const B4: u8 = 1 << 4;
+        const B5: u8 = 1 << 5;
+        const B6: u8 = 1 << 6;
+        for x in 0..w {
+            let c = (x + 1) * st;
+            let left = x * st;
+            let right = (x + 2) * st;
+            let o = x % 2; // odd columns: diagonal neighbours one row higher
+            let cells = &self.cells;
+            let next = &mut self.next[c + 1..c + l + 1];
+            for (k, out) in next.iter_mut().enumerate() {
+                let j = k + 1;
+                *out = (cells[c + j] & B0)
+                    | (cells[c + j - 1] & B1)
+                    | (cells[c + j + 1] & B4)
+                    | (cells[right + j - 1 + o] & B2)
+                    | (cells[right + j + o] & B3)
+                    | (cells[left + j + o] & B5)
+                    | (cells[left + j - 1 + o] & B6);
+            }
+        }
+        // walls: particles about to leave stay and are reflected
+        let c0 = st;
+        for j in 1..=l {
+            let s = self.cells[c0 + j] & (B2 | B3);
+            if s != 0 {
+                self.next[c0 + j] |= match s {
+                    B2 => {
+                        if chance(&mut self.rng, self.b_t) {
+                            B5
+                        } else {
+                            B6
+                        }
+                    }
+                    B3 => {
+                        if chance(&mut self.rng, self.b_t) {
+                            B6
+                        } else {
+                            B5
+                        }
+                    }
+                    _ => B5 | B6,
+                };
+            }
+        }
+        let cw = w * st;
+        for j in 1..=l {
+            let s = self.cells[cw + j] & (B5 | B6);
+            if s != 0 {
+                self.next[cw + j] |= match s {
+                    B6 => {
+                        if chance(&mut self.rng, self.b_t) {
+                            B3
+                        } else {
+                            B2
+                        }
+                    }
+                    B5 => {
+                        if chance(&mut self.rng, self.b_t) {
+                            B2
+                        } else {
+                            B3
+                        }
+                    }
+                    _ => B2 | B3,
+                };
+            }
+        }
+        std::mem::swap(&mut self.cells, &mut self.next);
+    }
+
+    /// Total number of particles N (all channels).
+    pub fn particle_count(&self) -> u64 {
+        (0..self.params.width)
+            .map(|x| {
+                self.column(x)
+                    .iter()
+                    .map(|&s| s.count_ones() as u64)
+                    .sum::<u64>()
+            })
+            .sum()
+    }
+
+    /// Kinetic energy E = number of moving particles [PH95 Fig. 3b].
+    pub fn moving_count(&self) -> u64 {
+        (0..self.params.width)
+            .map(|x| {
+                self.column(x)
+                    .iter()
+                    .map(|&s| (s & MOVERS).count_ones() as u64)
+                    .sum::<u64>()
+            })
+            .sum()
+    }
+
+    /// Number of particles in each channel 0..=6 (for diagnostics).
+    pub fn channel_counts(&self) -> [u64; 7] {
+        let mut n = [0u64; 7];
+        for x in 0..self.params.width {
+            for &s in self.column(x) {
+                for (c, v) in n.iter_mut().enumerate() {
+                    *v += ((s >> c) & 1) as u64;
+                }
+            }
+        }
+        n
+    }
+
+    /// Bin densities n_i (A9): particles in rows `i*bin .. (i+1)*bin`, all columns.
+    pub fn bin_counts(&self) -> Vec<f64> {
+        let mut out = vec![0.0; self.params.bins()];
+        self.fill_bin_counts(&mut out);
+        out
+    }
+
+    /// [`Pipe::bin_counts`] into a buffer of length K (no allocation).
+    pub fn fill_bin_counts(&self, out: &mut [f64]) {
+        let bin = self.params.bin;
+        out.iter_mut().for_each(|v| *v = 0.0);
+        for x in 0..self.params.width {
+            for (k, chunk) in self.column(x).chunks(bin).enumerate() {
+                out[k] += chunk.iter().map(|&s| s.count_ones()).sum::<u32>() as f64;
+            }
+        }
+    }
+
+    /// Particle count of bin `i` alone (cheap, for spectra of one bin).
+    pub fn bin_count(&self, i: usize) -> u32 {
+        let bin = self.params.bin;
+        (0..self.params.width)
+            .map(|x| {
+                self.column(x)[i * bin..(i + 1) * bin]
+                    .iter()
+                    .map(|&s| s.count_ones())
+                    .sum::<u32>()
+            })
+            .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tiny(w: usize, l: usize) -> Params {
+        Params {
+            width: w,
+            length: l,
+            bin: 1,
+            ..Params::default()
+        }
+    }
+
+    #[test]
+    fn a_lone_mover_propagates_to_its_neighbour() {
+        for x in 1..3 {
+            for c in 1..=6 {
+                let p = Params {
+                    g: 0.0,
+                    ..tiny(4, 6)
+                };
+                let mut pipe = Pipe::new(p, Rules::default(), 1).unwrap();
+                for xx in 0..4 {
+                    for yy in 0..6 {
+                        pipe.set_site(xx, yy, 0);
+                    }
+                }
+                pipe.set_site(x, 2, bit(c));
+                pipe.step().unwrap();
+                let (nx, ny) = neighbour(x, 2, c);
+                assert_eq!(pipe.site(nx as usize, ny as usize), bit(c), "x {x} c {c}");
+                assert_eq!(pipe.particle_count(), 1);
+            }
+        }
+    }
+
+    #[test]
+    fn walls_reflect_specularly_at_b0_and_bounce_back_at_b1() {
+        for (b, expect_left, expect_right) in [(0.0, [6, 5], [2, 3]), (1.0, [5, 6], [3, 2])] {
+            for (k, c) in [2usize, 3].into_iter().enumerate() {
+                let p = Params {
+                    g: 0.0,
+                    b,
+                    ..tiny(3, 4)
+                };
+                let mut pipe = Pipe::new(p, Rules::default(), 1).unwrap();
+                (0..3).for_each(|x| (0..4).for_each(|y| pipe.set_site(x, y, 0)));
+                pipe.set_site(0, 1, bit(c));
+                pipe.step().unwrap();
+                assert_eq!(
+                    pipe.site(0, 1),
+                    bit(expect_left[k]),
+                    "left wall b {b} c {c}"
+                );
+            }
+            for (k, c) in [6usize, 5].into_iter().enumerate() {
+                let p = Params {
+                    g: 0.0,
+                    b,
+                    ..tiny(3, 4)
+                };
+                let mut pipe = Pipe::new(p, Rules::default(), 1).unwrap();
+                (0..3).for_each(|x| (0..4).for_each(|y| pipe.set_site(x, y, 0)));
+                pipe.set_site(2, 1, bit(c));
+                pipe.step().unwrap();
+                assert_eq!(
+                    pipe.site(2, 1),
+                    bit(expect_right[k]),
+                    "right wall b {b} c {c}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn gravity_tables_follow_the_wordings() {
+        let ph94 = gravity_table(GravityWording::Ph94);
+        assert_eq!(ph94[bit(2) as usize].n, 0); // lone mover untouched
+        assert_eq!(ph94[(bit(0) | bit(2)) as usize].n, 2); // 0->4, 2->3
+        assert_eq!(ph94[(bit(0) | bit(4)) as usize].n, 0); // channel 4 full
+        let any = gravity_table(GravityWording::AnyMover);
+        assert_eq!(any[bit(2) as usize].n, 1);
+        assert_eq!(any[bit(1) as usize].n, 0);
+        let up = gravity_table(GravityWording::UpToRest);
+        assert_eq!(up[bit(1) as usize].n, 1);
+        assert_eq!(up[(bit(1) | bit(0)) as usize].n, 1); // only 0->4
+    }
+
+    #[test]
+    fn validation_names_the_value() {
+        let bad = Params {
+            length: 25,
+            ..Params::default()
+        };
+        let e = Pipe::new(bad, Rules::default(), 0).unwrap_err();
+        assert!(
+            e.message.contains("L = 25") && e.message.contains("bin = 10"),
+            "{}",
+            e.message
+        );
+        let bad = Params {
+            rho: 6.01,
+            ..Params::default()
+        };
+        assert!(Pipe::new(bad, Rules::default(), 0)
+            .unwrap_err()
+            .message
+            .contains("rho = 6.01"));
+    }
+}

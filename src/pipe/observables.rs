@@ -1,0 +1,116 @@
+//! Observables of the bin densities n_i (MODEL.md A9, A11): the density
+//! contrast, the low-k structure factor that detects travelling bands.
+
+/// Density contrast C = (1/n_mean) sum_i |n_i - n_{i+1}|, periodic in i
+/// [PH95 eq. 1]. Returns 0 for an empty pipe.
+pub fn contrast(n: &[f64]) -> f64 {
+    let k = n.len();
+    if k == 0 {
+        return 0.0;
+    }
+    let mean = n.iter().sum::<f64>() / k as f64;
+    if mean <= 0.0 {
+        return 0.0;
+    }
+    let s: f64 = (0..k).map(|i| (n[i] - n[(i + 1) % k]).abs()).sum();
+    s / mean
+}
+
+/// |sum_i (n_i - nbar) exp(2 pi i k i / K)|^2 of one density profile.
+pub fn structure_factor(n: &[f64], k: usize) -> f64 {
+    let len = n.len();
+    if len == 0 {
+        return 0.0;
+    }
+    let mean = n.iter().sum::<f64>() / len as f64;
+    let (mut re, mut im) = (0.0, 0.0);
+    for (i, &v) in n.iter().enumerate() {
+        let phase = 2.0 * std::f64::consts::PI * (k * i % len) as f64 / len as f64;
+        re += (v - mean) * phase.cos();
+        im += (v - mean) * phase.sin();
+    }
+    re * re + im * im
+}
+
+/// Variance of one bin's particle count in the random start (A8): 6 * bin * W
+/// independent channels occupied with probability rho/6.
+pub fn random_start_bin_variance(rho: f64, bin: usize, width: usize) -> f64 {
+    (bin * width) as f64 * rho * (1.0 - rho / 6.0)
+}
+
+/// Accumulates S(k) for k = 1..=kmax over samples, normalised by its value
+/// for the random start, K * (per-bin variance): waves give S(1..3) >> 1,
+/// a structureless gas about 1 (MODEL.md A11).
+#[derive(Debug, Clone)]
+pub struct LowK {
+    sums: Vec<f64>,
+    samples: usize,
+    norm: f64,
+}
+
+impl LowK {
+    /// An accumulator for modes 1..=kmax with the random-start normalisation
+    /// for K bins of per-bin variance `bin_variance`.
+    pub fn new(kmax: usize, bins: usize, bin_variance: f64) -> Self {
+        LowK {
+            sums: vec![0.0; kmax],
+            samples: 0,
+            norm: bins as f64 * bin_variance,
+        }
+    }
+
+    /// Add one density profile.
+    pub fn add(&mut self, n: &[f64]) {
+        for (k, s) in self.sums.iter_mut().enumerate() {
+            *s += structure_factor(n, k + 1);
+        }
+        self.samples += 1;
+    }
+
+    /// Normalised S(k) for k = 1..=kmax (NaN without samples or normalisation).
+    pub fn normalised(&self) -> Vec<f64> {
+        self.sums
+            .iter()
+            .map(|s| {
+                if self.samples == 0 || self.norm <= 0.0 {
+                    f64::NAN
+                } else {
+                    s / self.samples as f64 / self.norm
+                }
+            })
+            .collect()
+    }
+
+    /// Mean of the normalised S(1..=kmax): the `s_low` statistic.
+    pub fn mean(&self) -> f64 {
+        let v = self.normalised();
+        v.iter().sum::<f64>() / v.len() as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn contrast_of_a_uniform_profile_is_zero_and_of_a_step_is_known() {
+        assert_eq!(contrast(&[3.0; 8]), 0.0);
+        // 0,2,0,2: mean 1, four jumps of 2
+        assert!((contrast(&[0.0, 2.0, 0.0, 2.0]) - 8.0).abs() < 1e-12);
+        assert_eq!(contrast(&[]), 0.0);
+    }
+
+    #[test]
+    fn structure_factor_of_a_cosine_peaks_at_its_mode() {
+        let k0 = 2;
+        let n: Vec<f64> = (0..40)
+            .map(|i| 10.0 + (2.0 * std::f64::consts::PI * (k0 * i) as f64 / 40.0).cos())
+            .collect();
+        // amplitude 1 cosine: |sum|^2 = (K/2)^2
+        assert!((structure_factor(&n, k0) - 400.0).abs() < 1e-9);
+        assert!(structure_factor(&n, 1) < 1e-9);
+        let mut acc = LowK::new(3, 40, 1.0);
+        acc.add(&n);
+        assert!((acc.normalised()[1] - 10.0).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,187 @@
+//! Rule variants of the pipe lattice gas: the readings of the papers' text
+//! that MODEL.md names (A2, A4, A5, A6, A11). A variant is a value, not a fork
+//! of the code: the engine builds its tables from it once.
+//!
+//! A rule set is written as names joined by `+`, e.g. `ph94+wall-drag` or
+//! `any-mover+gravity-first`; `default` is the MODEL.md default reading.
+//!
+//! ```
+//! use granular_automata::pipe::Rules;
+//! let r: Rules = "any-mover+rest-up".parse().unwrap();
+//! assert_eq!(r.to_string(), "any-mover+rest-up");
+//! assert_eq!("default".parse::<Rules>().unwrap(), Rules::default());
+//! assert!("ph96".parse::<Rules>().is_err());
+//! ```
+
+use crate::error::{Error, ErrorKind};
+use std::fmt;
+use std::str::FromStr;
+
+/// Which moving particles gravity acts on (MODEL.md A5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum GravityWording {
+    /// [PH94]: a rest particle falls (0 -> 4); a mover is turned (2 -> 3,
+    /// 6 -> 5) only at a site that holds a rest particle. The default.
+    Ph94,
+    /// [PH95]: every mover can be turned (2 -> 3, 6 -> 5), rest particles fall.
+    AnyMover,
+    /// `any-mover` plus an up-mover stopping (1 -> 0) when the rest channel is
+    /// empty. (With the [PH94] condition 1 -> 0 could never happen, since the
+    /// site must hold a rest particle, so this variant builds on `any-mover`.)
+    UpToRest,
+}
+
+/// Where an extra rest particle of R4/R5 goes (MODEL.md A4, A11).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RestPlacement {
+    /// A random walk over neighbouring sites until a site with an empty rest
+    /// channel is found (MODEL.md A4). The default.
+    RandomWalk,
+    /// `rest-up` (A11, "piling up"): the nearest site above in the same column
+    /// whose rest channel is empty (wrapping in the periodic pipe; in the open
+    /// pipe, or when the column is full, the random walk is used instead).
+    RestUp,
+}
+
+/// A complete reading of the pipe rules.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Rules {
+    /// Which movers gravity turns (A5).
+    pub gravity: GravityWording,
+    /// `wall-drag` (A6 variant): in a wall column a particle moving along the
+    /// wall (1 or 4) is bounced back (1 <-> 4) with probability b if the target
+    /// channel is empty, just before propagation.
+    pub wall_drag: bool,
+    /// `gravity-first` (A2 variant): gravity acts before the collision step
+    /// instead of after relocation.
+    pub gravity_first: bool,
+    /// Placement of extra rest particles (A4).
+    pub rest: RestPlacement,
+}
+
+impl Default for Rules {
+    /// The MODEL.md default reading: [PH94] gravity, no wall drag, collision
+    /// before gravity, random-walk relocation.
+    fn default() -> Self {
+        Rules {
+            gravity: GravityWording::Ph94,
+            wall_drag: false,
+            gravity_first: false,
+            rest: RestPlacement::RandomWalk,
+        }
+    }
+}
+
+/// Every name understood by [`Rules::from_str`], with its meaning.
+pub const RULE_NAMES: [(&str, &str); 7] = [
+    ("default", "the MODEL.md default reading (= ph94)"),
+    (
+        "ph94",
+        "gravity turns movers only at sites holding a rest particle [PH94]",
+    ),
+    ("any-mover", "gravity turns every mover [PH95]"),
+    ("up-to-rest", "any-mover plus up-movers stopping (1 -> 0)"),
+    (
+        "wall-drag",
+        "movers along a wall are bounced back (1 <-> 4) with probability b",
+    ),
+    ("gravity-first", "gravity before the collision step"),
+    (
+        "rest-up",
+        "extra rest particles pile up on the nearest free site above",
+    ),
+];
+
+impl fmt::Display for Rules {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut parts = vec![match self.gravity {
+            GravityWording::Ph94 => "ph94",
+            GravityWording::AnyMover => "any-mover",
+            GravityWording::UpToRest => "up-to-rest",
+        }];
+        if self.wall_drag {
+            parts.push("wall-drag");
+        }
+        if self.gravity_first {
+            parts.push("gravity-first");
+        }
+        if self.rest == RestPlacement::RestUp {
+            parts.push("rest-up");
+        }
+        write!(f, "{}", parts.join("+"))
+    }
+}
+
+impl FromStr for Rules {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self, Error> {
+        let mut r = Rules::default();
+        let mut gravity_named = false;
+        for part in s.split('+').map(str::trim) {
+            let g = match part {
+                "default" | "ph94" => Some(GravityWording::Ph94),
+                "any-mover" => Some(GravityWording::AnyMover),
+                "up-to-rest" => Some(GravityWording::UpToRest),
+                "wall-drag" => {
+                    r.wall_drag = true;
+                    None
+                }
+                "gravity-first" => {
+                    r.gravity_first = true;
+                    None
+                }
+                "rest-up" => {
+                    r.rest = RestPlacement::RestUp;
+                    None
+                }
+                other => {
+                    let known: Vec<&str> = RULE_NAMES.iter().map(|n| n.0).collect();
+                    return Err(Error::new(
+                        ErrorKind::InvalidParameter,
+                        format!(
+                            "rules: unknown name '{other}' in '{s}'; use names from {{{}}} joined by '+'",
+                            known.join(", ")
+                        ),
+                    ));
+                }
+            };
+            if let Some(g) = g {
+                if gravity_named && g != r.gravity {
+                    return Err(Error::new(
+                        ErrorKind::InvalidParameter,
+                        format!("rules: '{s}' names two gravity wordings; name at most one of ph94, any-mover, up-to-rest"),
+                    ));
+                }
+                gravity_named = true;
+                r.gravity = g;
+            }
+        }
+        Ok(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_combination_round_trips() {
+        for g in ["ph94", "any-mover", "up-to-rest"] {
+            for extra in [
+                "",
+                "+wall-drag",
+                "+gravity-first",
+                "+rest-up",
+                "+wall-drag+gravity-first+rest-up",
+            ] {
+                let s = format!("{g}{extra}");
+                let r: Rules = s.parse().unwrap();
+                assert_eq!(r.to_string(), s);
+            }
+        }
+        assert!("ph94+any-mover".parse::<Rules>().is_err());
+        let e = "wall".parse::<Rules>().unwrap_err();
+        assert!(e.message.contains("'wall'") && e.message.contains("wall-drag"));
+    }
+}
