@@ -99,16 +99,20 @@ impl Record {
         self.moving_by_orientation[0] as f64 / n.max(1) as f64
     }
 
-    /// The outflow while more than `fraction` of the initial grains remained
-    /// inside (the stationary window of BB90 Fig. 3).
-    pub fn window(&self, fraction: f64) -> &[f64] {
-        let limit = fraction * self.initial as f64;
-        let n = self
-            .inside
-            .iter()
-            .position(|&g| (g as f64) <= limit)
-            .unwrap_or(self.inside.len());
-        &self.outflow[..n]
+    /// The stationary outflow of BB90 Fig. 3: the iterations after the
+    /// start-up (once `skip` of the initial grains have left) while more than
+    /// `full` of the initial grains remain inside.
+    pub fn window(&self, skip: f64, full: f64) -> &[f64] {
+        let n0 = self.initial as f64;
+        let first = |limit: f64| {
+            self.inside
+                .iter()
+                .position(|&g| (g as f64) <= limit)
+                .unwrap_or(self.inside.len())
+        };
+        let a = (first((1.0 - skip) * n0) + 1).min(self.inside.len());
+        let b = first(full * n0).max(a);
+        &self.outflow[a..b]
     }
 }
 
@@ -217,4 +221,140 @@ pub fn run(params: HopperParams, seed: u64, plan: &Plan) -> Result<Record> {
         counted: h.count_grains(),
         site_updates: h.site_updates(),
     })
+}
+
+/// Outflow analysis of BB90 Fig. 3 over an ensemble of runs.
+#[derive(Debug, Clone)]
+pub struct OutflowAnalysis {
+    /// Mean grains per iteration in the stationary window (mean over runs).
+    pub mean: f64,
+    /// Standard deviation of the per-iteration outflow (mean over runs).
+    pub sd: f64,
+    /// Rate in the first half of the window (mean over runs).
+    pub first: f64,
+    /// Standard error of `first` (block means, combined over runs).
+    pub first_se: f64,
+    /// Rate in the second half of the window.
+    pub second: f64,
+    /// Standard error of `second`.
+    pub second_se: f64,
+    /// (second - first) / combined standard error.
+    pub trend_z: f64,
+    /// Mean length of the stationary window.
+    pub window: f64,
+    /// NR `spctrm` power P(j), j = 0..m-1, averaged over runs.
+    pub spectrum: Vec<f64>,
+    /// Frequency of P(j): j / (2m) cycles per iteration.
+    pub frequencies: Vec<f64>,
+    /// Segments pairs k used by `spctrm` (4km samples per run).
+    pub k: usize,
+    /// Log-log fit of P(f) for f <= 1/8.
+    pub fit: crate::analysis::fit::LinearFit,
+    /// Mean power in the top quarter of the band over that in the lowest
+    /// quarter (excluding f = 0): above 1 for the period-2 alternation.
+    pub high_to_low: f64,
+    /// Lag-1 autocorrelation of the outflow (mean over runs).
+    pub lag1: f64,
+}
+
+/// Where the stationary window starts: once this fraction of the grains left.
+pub const WINDOW_SKIP: f64 = 0.15;
+/// Where it ends: when only this fraction of the grains remains (BB90 Fig. 3:
+/// "more than 30% full").
+pub const WINDOW_FULL: f64 = 0.3;
+/// Block length for the standard errors of the half-window rates.
+pub const WINDOW_BLOCK: usize = 16;
+
+/// Analyse the outflow of `records` (same parameters, different seeds):
+/// half-window rates with block standard errors, and the NR `spctrm` power
+/// spectrum with `m` frequencies on the stationary window, its log-log slope
+/// fitted for f <= 1/8 (periods of 8 iterations or more, which the paper's
+/// 11-iteration average keeps; above it the outlet's period-2 alternation
+/// shapes the band).
+pub fn analyse_outflow(records: &[Record], m: usize) -> Result<OutflowAnalysis> {
+    use super::observables::OutflowStats;
+    use crate::analysis::fit::linear_fit;
+    use crate::analysis::spectrum::{frequency, spctrm, SpectrumParams, Window};
+    use crate::error::{Error, ErrorKind};
+    if records.is_empty() {
+        return Err(Error::new(
+            ErrorKind::BadSeries,
+            "no runs to analyse; use runs >= 1",
+        ));
+    }
+    let windows: Vec<&[f64]> = records
+        .iter()
+        .map(|r| r.window(WINDOW_SKIP, WINDOW_FULL))
+        .collect();
+    let stats: Vec<OutflowStats> = windows
+        .iter()
+        .map(|w| OutflowStats::new(w, WINDOW_BLOCK))
+        .collect::<Result<_>>()?;
+    let n = stats.len() as f64;
+    let avg = |f: &dyn Fn(&OutflowStats) -> f64| stats.iter().map(f).sum::<f64>() / n;
+    let comb = |f: &dyn Fn(&OutflowStats) -> f64| {
+        stats.iter().map(|s| f(s).powi(2)).sum::<f64>().sqrt() / n
+    };
+    let (first, first_se) = (avg(&|s| s.first), comb(&|s| s.first_se));
+    let (second, second_se) = (avg(&|s| s.second), comb(&|s| s.second_se));
+    let shortest = stats.iter().map(|s| s.len).min().unwrap_or(0);
+    let k = shortest / (4 * m.max(1));
+    if k == 0 {
+        return Err(Error::new(
+            ErrorKind::BadSeries,
+            format!(
+                "stationary window of {shortest} iterations is shorter than 4m = {}; lower m or use a larger hopper",
+                4 * m
+            ),
+        ));
+    }
+    let sp = SpectrumParams {
+        m,
+        k,
+        window: Window::Parzen1988,
+    };
+    let mut p = vec![0.0; m];
+    for w in &windows {
+        for (a, b) in p.iter_mut().zip(spctrm(w, &sp)?) {
+            *a += b / n;
+        }
+    }
+    let (lx, ly): (Vec<f64>, Vec<f64>) = (1..=m / 4)
+        .map(|j| (frequency(j, m).log10(), p[j].log10()))
+        .unzip();
+    let fit = linear_fit(&lx, &ly)?;
+    let quarter = (m / 4).max(1);
+    let high_to_low = p[m - quarter..].iter().sum::<f64>() / p[1..=quarter].iter().sum::<f64>();
+    let lag1 = windows.iter().map(|w| lag_correlation(w, 1)).sum::<f64>() / n;
+    Ok(OutflowAnalysis {
+        mean: avg(&|s| s.mean),
+        sd: avg(&|s| s.sd),
+        first,
+        first_se,
+        second,
+        second_se,
+        trend_z: (second - first) / (first_se.powi(2) + second_se.powi(2)).sqrt(),
+        window: avg(&|s| s.len as f64),
+        frequencies: (0..m).map(|j| frequency(j, m)).collect(),
+        spectrum: p,
+        k,
+        fit,
+        high_to_low,
+        lag1,
+    })
+}
+
+/// Correlation coefficient of `q` with itself `lag` iterations later.
+pub fn lag_correlation(q: &[f64], lag: usize) -> f64 {
+    let n = q.len();
+    if n <= lag + 1 {
+        return f64::NAN;
+    }
+    let m = q.iter().sum::<f64>() / n as f64;
+    let v = q.iter().map(|x| (x - m).powi(2)).sum::<f64>() / n as f64;
+    let c = (0..n - lag)
+        .map(|i| (q[i] - m) * (q[i + lag] - m))
+        .sum::<f64>()
+        / (n - lag) as f64;
+    c / v
 }

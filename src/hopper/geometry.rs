@@ -39,10 +39,10 @@ impl GeometryParams {
     /// A small hopper for the quick tier and the tests (1467 inside sites).
     pub fn quick() -> Self {
         GeometryParams {
-            width: 80,
-            height: 60,
-            outlet_width: 5,
-            channel_height: 3,
+            width: 100,
+            height: 75,
+            outlet_width: 7,
+            channel_height: 4,
         }
     }
 

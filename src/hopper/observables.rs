@@ -286,96 +286,9 @@ pub fn running_mean(series: &[f64], w: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Power spectrum by averaging Hann-windowed periodograms of non-overlapping
-/// segments of length `2m` (mean removed per segment): `m` values at the
-/// frequencies `k / (2m)`, `k = 1..=m` (cycles per iteration).
-pub fn periodogram(series: &[f64], m: usize) -> Result<Vec<(f64, f64)>> {
-    use rustfft::{num_complex::Complex, FftPlanner};
-    let len = 2 * m;
-    if m < 2 || series.len() < len {
-        return Err(Error::new(
-            ErrorKind::BadSeries,
-            format!(
-                "series of {} values is shorter than one segment of 2m = {len}; lower m",
-                series.len()
-            ),
-        ));
-    }
-    let fft = FftPlanner::<f64>::new().plan_fft_forward(len);
-    let win: Vec<f64> = (0..len)
-        .map(|j| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * j as f64 / len as f64).cos())
-        .collect();
-    let wss: f64 = win.iter().map(|w| w * w).sum();
-    let mut p = vec![0.0; m];
-    let segs = series.len() / len;
-    for s in 0..segs {
-        let seg = &series[s * len..(s + 1) * len];
-        let mean = seg.iter().sum::<f64>() / len as f64;
-        let mut buf: Vec<Complex<f64>> = seg
-            .iter()
-            .zip(&win)
-            .map(|(x, w)| Complex::new((x - mean) * w, 0.0))
-            .collect();
-        fft.process(&mut buf);
-        for k in 1..=m {
-            p[k - 1] += buf[k].norm_sqr() / wss;
-        }
-    }
-    Ok((1..=m)
-        .map(|k| (k as f64 / len as f64, p[k - 1] / segs as f64))
-        .collect())
-}
-
-/// Least-squares slope of log10 P against log10 f with its standard error.
-pub fn log_log_slope(spectrum: &[(f64, f64)]) -> Result<(f64, f64)> {
-    let pts: Vec<(f64, f64)> = spectrum
-        .iter()
-        .filter(|(f, p)| *f > 0.0 && *p > 0.0)
-        .map(|(f, p)| (f.log10(), p.log10()))
-        .collect();
-    let n = pts.len() as f64;
-    if pts.len() < 3 {
-        return Err(Error::new(
-            ErrorKind::BadSeries,
-            "fewer than 3 positive spectral points; use a longer series",
-        ));
-    }
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let slope = sxy / sxx;
-    let res: f64 = pts
-        .iter()
-        .map(|p| (p.1 - my - slope * (p.0 - mx)).powi(2))
-        .sum();
-    Ok((slope, (res / (n - 2.0) / sxx).sqrt()))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn white_noise_has_a_flat_spectrum() {
-        use rand::{RngExt, SeedableRng};
-        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(3);
-        let x: Vec<f64> = (0..8192).map(|_| rng.random::<f64>()).collect();
-        let p = periodogram(&x, 64).unwrap();
-        let (s, e) = log_log_slope(&p).unwrap();
-        assert!(s.abs() < 3.0 * e + 0.05, "slope {s} +- {e}");
-        // a random walk is red
-        let mut acc = 0.0;
-        let w: Vec<f64> = x
-            .iter()
-            .map(|v| {
-                acc += v - 0.5;
-                acc
-            })
-            .collect();
-        let (s, _) = log_log_slope(&periodogram(&w, 64).unwrap()).unwrap();
-        assert!(s < -1.5, "slope {s}");
-    }
 
     #[test]
     fn correlation_length_of_an_exponential() {
