@@ -36,7 +36,7 @@ impl Default for GeometryParams {
 }
 
 impl GeometryParams {
-    /// A small hopper for the quick tier and the tests (1467 inside sites).
+    /// A small hopper for the quick tier and the tests (100 x 75 sites, outlet 7, channel 4: 3782 inside sites).
     pub fn quick() -> Self {
         GeometryParams {
             width: 100,
@@ -50,7 +50,14 @@ impl GeometryParams {
     pub fn validate(&self) -> Result<()> {
         check_min("outlet_width", self.outlet_width, 1)?;
         check_min("channel_height", self.channel_height, 1)?;
-        check_min("width", self.width, self.outlet_width + 2)?;
+        check_min("width", self.width, 3)?;
+        if self.outlet_width + 2 > self.width {
+            return Err(Error::out_of_range(
+                "outlet_width",
+                self.outlet_width,
+                &format!("[1, {}] for width = {}", self.width - 2, self.width),
+            ));
+        }
         check_min("height", self.height, self.channel_height + 4)?;
         if self.width > 4096 || self.height > 4096 {
             return Err(Error::out_of_range(

@@ -194,7 +194,7 @@ pub fn orientation_correlation(h: &Hopper, rmax: usize) -> Vec<f64> {
 /// interpolation; `rmax` when it never does; 0 when g(1) <= 1/3).
 pub fn correlation_length(g: &[f64]) -> f64 {
     let third = 1.0 / 3.0;
-    if g.is_empty() || !(g[0] > third) {
+    if g.is_empty() || g[0].is_nan() || g[0] <= third {
         return 0.0;
     }
     let level = (g[0] - third) / std::f64::consts::E;
