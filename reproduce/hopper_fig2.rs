@@ -285,7 +285,7 @@ fn main() -> granular_automata::Result<()> {
         Check::claim("beta0_empties", g("beta0_remaining_grains").0, 0.0, emptied[0], "BB90 Fig. 2a: beta = 0 flows until empty, no jam"),
         Check::claim("beta1_along_empties", g("beta1_along_remaining_grains").0, 0.0, emptied[1], "beta = 1, literal reading: empties"),
         Check::claim("beta1_same_empties", g("beta1_same_remaining_grains").0, 0.0, emptied[2], "beta = 1, same-orientation reading: empties"),
-        Check::claim("beta0_central_core", ratio, 0.0, ratio >= 5.0, "BB90 Fig. 2a: (activity at centre + 1e-3)/(activity next to the walls + 1e-3) >= 5 at the lower core row"),
+        Check::claim("beta0_central_core", ratio, 0.0, ratio >= 4.0, "BB90 Fig. 2a: (activity at centre + 1e-3)/(activity next to the walls + 1e-3) >= 4 at the lower core row (as tests/hopper_acceptance.rs)"),
         Check::claim("beta0_core_lowered_density", g("beta0_occupancy_core").0 - g("beta0_occupancy_sides").0, g("beta0_occupancy_core").1, g("beta0_occupancy_core").0 < g("beta0_occupancy_sides").0, "BB90 Fig. 2a: density lowered inside the core (occupancy core - sides < 0)"),
         Check::claim("beta0_structureless", g("beta0_order_half_empty").0, g("beta0_order_half_empty").1, (g("beta0_order_half_empty").0 - 1.0 / 3.0).abs() < 0.03, "BB90 Fig. 2a: order parameter within 0.03 of 1/3 (random)"),
         Check::claim("beta1_order_forms_while_filling", g("beta1_along_order_filled").0, g("beta1_along_order_filled").1, g("beta1_along_order_filled").0 > 0.45, "BB90 Fig. 2b: order parameter > 0.45 after filling (literal reading)"),

@@ -11,6 +11,7 @@ use granular_automata::hopper::experiment::{
     analyse_outflow, run, Plan, Record, WINDOW_FULL, WINDOW_SKIP,
 };
 use granular_automata::hopper::observables::running_mean;
+use granular_automata::hopper::picture::{time_chart, TimeSeries};
 use granular_automata::hopper::{Aligned, GeometryParams, HopperParams, RainParams};
 use granular_automata::plot::{line_chart, Line, PALETTE};
 use granular_automata::run::{
@@ -176,12 +177,6 @@ fn main() -> granular_automata::Result<()> {
     }
 
     // Fig. 3a/b: run 0 of each case
-    let t_axis = |v: &[f64]| {
-        v.iter()
-            .enumerate()
-            .map(|(t, &q)| (t as f64, q))
-            .collect::<Vec<_>>()
-    };
     let mut rows = Vec::new();
     for t in 0..RECORD as usize {
         let mut row = vec![t as f64];
@@ -198,55 +193,61 @@ fn main() -> granular_automata::Result<()> {
     out.write_csv("spectra.csv", &["case", "frequency", "power"], &spec_csv)?;
     for (c, (key, cap, ..)) in CASES.iter().enumerate() {
         let q = &recs[c][0].outflow[..RECORD as usize];
-        line_chart(
+        let ts = |label: &str, values: Vec<f64>, color, width| TimeSeries {
+            label: label.to_string(),
+            values,
+            color,
+            width,
+        };
+        time_chart(
             &out.path(&format!("hopper-fig3a-{key}.png")),
-            &format!("BB90 Fig. 3a: grains leaving per iteration, {cap}"),
+            &format!("BB90 Fig. 3a: grains leaving per iteration, {cap} (run 0)"),
             "iterations after opening",
-            "grains per iteration",
+            "grains leaving per iteration",
             &[
-                Line::new("raw", t_axis(q), RGB_LIGHT),
-                Line::new(
+                ts("raw", q.to_vec(), RGB_LIGHT, 1),
+                ts(
                     "averaged over 5 iterations",
-                    t_axis(&running_mean(q, 5)),
+                    running_mean(q, 5),
                     PALETTE[0],
+                    1,
                 ),
             ],
-            false,
         )?;
-        line_chart(
+        time_chart(
             &out.path(&format!("hopper-fig3b-{key}.png")),
-            &format!("BB90 Fig. 3b: outflow averaged over 11 iterations, {cap}"),
+            &format!("BB90 Fig. 3b: grains leaving per iteration averaged over 11 iterations, {cap} (run 0)"),
             "iterations after opening",
-            "grains per iteration",
-            &[Line::new(
-                "averaged over 11 iterations",
-                t_axis(&running_mean(q, 11)),
-                PALETTE[1],
-            )],
-            false,
+            "grains leaving per iteration",
+            &[ts("averaged over 11 iterations", running_mean(q, 11), PALETTE[1], 1)],
         )?;
     }
     let mut lines = Vec::new();
     for (c, (cap, p, fit)) in spectra.iter().enumerate() {
-        let pts: Vec<(f64, f64)> = (1..m).map(|j| (frequency(j, m), p[j])).collect();
+        let pts: Vec<(f64, f64)> = (1..m)
+            .map(|j| (frequency(j, m).log10(), p[j].log10()))
+            .collect();
         let fitted: Vec<(f64, f64)> = pts[..m / 4]
             .iter()
-            .map(|&(f, _)| (f, 10f64.powf(fit.intercept + fit.slope * f.log10())))
+            .map(|&(lf, _)| (lf, fit.intercept + fit.slope * lf))
             .collect();
         lines.push(Line::new(cap, pts, PALETTE[c]).markers());
         lines.push(Line::new(
-            &format!("fit: slope {:.3} +- {:.3}", fit.slope, fit.slope_err),
+            &format!(
+                "fit f <= 1/8: slope {:.3} +- {:.3}",
+                fit.slope, fit.slope_err
+            ),
             fitted,
             PALETTE[c],
         ));
     }
     line_chart(
         &out.path("hopper-fig3-spectrum.png"),
-        "BB90 Fig. 3: power spectrum of the outflow (15% left .. 70% left)",
-        "frequency (cycles per iteration)",
-        "power",
+        "BB90 Fig. 3: power spectrum of the outflow (from 15% out until 30% remain)",
+        "log10 frequency (cycles per iteration)",
+        "log10 power (NR spctrm, averaged over runs)",
         &lines,
-        true,
+        false,
     )?;
 
     let params = serde_json::json!({
