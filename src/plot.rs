@@ -103,6 +103,22 @@ fn bounds(lines: &[Line], log: bool) -> ((f64, f64), (f64, f64)) {
     }
 }
 
+/// Tick label: plain numbers on linear axes, `1e-3` style on log axes
+/// outside [0.01, 10^5].
+fn tick(v: f64, log: bool) -> String {
+    let a = v.abs();
+    if v == 0.0 {
+        "0".to_string()
+    } else if log && !(0.01..1e5).contains(&a) {
+        format!("{v:.0e}")
+    } else if a >= 100.0 || (log && a >= 1.0) {
+        format!("{v:.0}")
+    } else {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
 /// Draw a line chart to `path` (PNG). `log` makes both axes logarithmic.
 pub fn line_chart(
     path: &Path,
@@ -111,6 +127,27 @@ pub fn line_chart(
     ylabel: &str,
     lines: &[Line],
     log: bool,
+) -> Result<()> {
+    line_chart_at(
+        path,
+        title,
+        xlabel,
+        ylabel,
+        lines,
+        log,
+        SeriesLabelPosition::UpperRight,
+    )
+}
+
+/// [`line_chart`] with the legend at `legend`.
+pub fn line_chart_at(
+    path: &Path,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    lines: &[Line],
+    log: bool,
+    legend: SeriesLabelPosition,
 ) -> Result<()> {
     register_fonts();
     let root = BitMapBackend::new(path, (900, 650)).into_drawing_area();
@@ -121,6 +158,8 @@ pub fn line_chart(
             let mut chart = $chart;
             chart
                 .configure_mesh()
+                .x_label_formatter(&|v: &f64| tick(*v, log))
+                .y_label_formatter(&|v: &f64| tick(*v, log))
                 .x_desc(xlabel)
                 .y_desc(ylabel)
                 .label_style((FONT, 16))
@@ -157,7 +196,7 @@ pub fn line_chart(
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .label_font((FONT, 16))
-                .position(SeriesLabelPosition::UpperRight)
+                .position(legend.clone())
                 .draw()
                 .map_err(plot_err)?;
         }};

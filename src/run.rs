@@ -192,6 +192,18 @@ impl Check {
     }
 }
 
+/// Append `reason` to the note of every failing check: a published value the
+/// reading does not reproduce is a known discrepancy, reported, never hidden.
+pub fn mark_discrepancies(checks: &mut [Check], reason: &str) {
+    for c in checks
+        .iter_mut()
+        .filter(|c| !c.pass && c.published.is_some())
+    {
+        c.note.push_str("; NOT REPRODUCED: ");
+        c.note.push_str(reason);
+    }
+}
+
 /// The `summary.json` of a figure binary (DEVELOPERS.md, output contract).
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {

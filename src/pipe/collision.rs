@@ -80,10 +80,13 @@ fn set(channels: &[usize]) -> u8 {
     channels.iter().fold(0u8, |s, &c| s | bit(c))
 }
 
+/// (state, extra rest particles, probability) while the table is built.
+type RawOutcome = (u8, u8, f64);
+
 impl CollisionTable {
     /// Build the table of R1-R5 for dissipation probability `p`.
     pub fn new(p: f64) -> Self {
-        let mut raw: Vec<(Rule, Vec<(u8, u8, f64)>)> = (0..128u8)
+        let mut raw: Vec<(Rule, Vec<RawOutcome>)> = (0..128u8)
             .map(|s| (Rule::None, vec![(s, 0, 1.0)]))
             .collect();
         for c in 1..=6 {

@@ -21,6 +21,7 @@ pub mod collision;
 pub mod observables;
 pub mod record;
 pub mod rules;
+pub mod spectra;
 
 pub use rules::{GravityWording, RestPlacement, Rules};
 

@@ -161,6 +161,13 @@ impl FromStr for Rules {
     }
 }
 
+impl serde::Serialize for Rules {
+    /// Serialised as its name, e.g. `"ph94+wall-drag"`.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.to_string())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

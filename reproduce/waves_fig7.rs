@@ -1,0 +1,130 @@
+//! PH95 Fig. 7: density spectra without dissipation (p = 0, b = 0.5) and
+//! without wall roughness (b = 0, p = 0.5); g = 0.5, rho = 1, L = 220, W = 11.
+//! Published: white noise (alpha about 0) in both; with b = 0 a large peak at
+//! v = 1/2 exactly.
+//!
+//! `cargo run --release --bin waves-fig7 -- --tier quick`
+
+use clap::Parser;
+use granular_automata::cli::{Common, PipeRules};
+use granular_automata::pipe::spectra::{
+    spectrum_ensemble, spectrum_lines, spectrum_rows, tier_setup, tolerance, DISCREPANCY,
+};
+use granular_automata::pipe::Params;
+use granular_automata::plot::line_chart_at;
+use granular_automata::run::{derive_seed, mark_discrepancies, progress, Check, Output, Summary};
+use plotters::chart::SeriesLabelPosition;
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(about = "PH95 Fig. 7: white-noise spectra at p = 0 and at b = 0 (peak at v = 1/2)")]
+struct Args {
+    #[command(flatten)]
+    common: Common,
+    #[command(flatten)]
+    rules: PipeRules,
+}
+
+/// "alpha about 0" read as 0 +- 0.05, as "about 1.33" in PH95 Fig. 6.
+const WHITE: (f64, f64) = (0.0, 0.05);
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = Args::parse();
+    let rules = args.rules.parse()?;
+    let base = Params {
+        length: 220,
+        width: 11,
+        rho: 1.0,
+        g: 0.5,
+        ..Params::default()
+    };
+    let cases = [
+        (
+            "p0",
+            Params {
+                p: 0.0,
+                b: 0.5,
+                ..base
+            },
+        ),
+        (
+            "b0",
+            Params {
+                p: 0.5,
+                b: 0.0,
+                ..base
+            },
+        ),
+    ];
+    let runs = args.common.runs_or(4, 8, 8);
+    let seeds: Vec<u64> = (0..runs as u64)
+        .map(|i| derive_seed(args.common.seed, i))
+        .collect();
+    let out = Output::new(&args.common.out, "waves-fig7")?;
+
+    let start = Instant::now();
+    let setup0 = tier_setup(args.common.tier, base, rules);
+    let pb = progress(2 * runs as u64 * setup0.steps(), "waves-fig7 steps");
+    let mut ens = Vec::new();
+    for (name, params) in cases {
+        let setup = tier_setup(args.common.tier, params, rules);
+        let e = spectrum_ensemble(&setup, &seeds, &|n| pb.inc(n))?;
+        out.write_csv(
+            &format!("spectrum_{name}.csv"),
+            &["j", "frequency", "P"],
+            &spectrum_rows(&e),
+        )?;
+        ens.push(e);
+    }
+    pb.finish();
+    let wall = start.elapsed().as_secs_f64();
+
+    let mut lines = spectrum_lines(&ens[0], "p = 0, b = 0.5", 0);
+    lines.extend(spectrum_lines(&ens[1], "b = 0, p = 0.5", 3));
+    line_chart_at(
+        &out.path("waves-fig7.png"),
+        &format!("PH95 Fig. 7: spectra without dissipation or roughness, L = 220, {runs} runs, rules {rules}"),
+        "j (frequency j/(2m) per sample of 10 steps)",
+        "P(j)",
+        &lines,
+        true,
+        SeriesLabelPosition::LowerLeft,
+    )?;
+
+    let mut metrics = BTreeMap::new();
+    for (e, name) in ens.iter().zip(["p0", "b0"]) {
+        metrics.insert(format!("alpha_{name}"), e.alpha);
+        metrics.insert(format!("alpha_{name}_err"), e.alpha_err);
+        metrics.insert(format!("v_peak_{name}"), e.v_peak);
+        metrics.insert(format!("v_peak_{name}_err"), e.v_err);
+        metrics.insert(format!("peak_contrast_{name}"), e.fit_of_mean.contrast);
+    }
+    let bin_width_v = base.length as f64 / (10.0 * 2.0 * setup0.m as f64);
+    let mut checks = vec![
+        Check::new("alpha_p0", ens[0].alpha, ens[0].alpha_err, Some(WHITE.0), tolerance(ens[0].alpha_err, WHITE.1),
+            "white noise at p = 0; tolerance = 2 sqrt(SE_runs^2 + 0.05^2)"),
+        Check::new("alpha_b0", ens[1].alpha, ens[1].alpha_err, Some(WHITE.0), tolerance(ens[1].alpha_err, WHITE.1),
+            "white noise at b = 0; tolerance = 2 sqrt(SE_runs^2 + 0.05^2)"),
+        // "exactly 1/2" is a spectral line: its position in the averaged spectrum
+        // is fixed to a frequency bin, so the tolerance is two bins; the spread
+        // of the per-run peaks is reported as the error.
+        Check::new("v_peak_b0", ens[1].v_peak, ens[1].v_err, Some(0.5), 2.0 * bin_width_v,
+            "peak at v = 1/2 exactly at b = 0; tolerance = two frequency bins of the averaged spectrum"),
+    ];
+    mark_discrepancies(&mut checks, DISCREPANCY);
+    out.finish(&Summary {
+        figure: "waves-fig7".into(),
+        paper: "PH95 Fig. 7".into(),
+        tier: args.common.tier,
+        seeds,
+        params: json!({"p0": cases[0].1, "b0": cases[1].1, "setup": setup0}),
+        rules: rules.to_string(),
+        wall_seconds: wall,
+        site_updates: (2 * runs as u64 * setup0.steps() * base.sites() as u64) as f64,
+        metrics,
+        checks,
+    })?;
+    Ok(())
+}

@@ -1,0 +1,406 @@
+//! Density spectra of the pipe (MODEL.md A9; PH94 Fig. 2, PH95 Figs. 6-7):
+//! the particle count of one bin recorded every T0 steps, its NR-1988
+//! spectrum, the exponent alpha over the fit range with the peak removed, and
+//! the wave velocity from the peak; per run and over an ensemble of runs.
+
+use super::{Params, Pipe, Rules};
+use crate::analysis::fit::{estimate_alpha, wave_velocity, AlphaEstimate};
+use crate::analysis::spectrum::{average_spectra, spctrm, SpectrumParams, Window};
+use crate::error::Result;
+use crate::plot::{line_chart_at, Line, PALETTE};
+use crate::run::{ensemble, mean_sem};
+use plotters::chart::SeriesLabelPosition;
+use serde::Serialize;
+use std::path::Path;
+
+/// What to record and how to estimate the spectrum.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct SpectrumSetup {
+    /// The pipe.
+    pub params: Params,
+    /// The rule reading.
+    pub rules: Rules,
+    /// Steps discarded before recording (transient from the random start).
+    pub transient: u64,
+    /// T0: steps between samples (10 in the papers).
+    pub t0: u64,
+    /// m: number of output frequencies (16384 in the papers).
+    pub m: usize,
+    /// k: 2k segments of 2m samples (4 in the papers).
+    pub k: usize,
+    /// The bin whose count is recorded.
+    pub bin_index: usize,
+}
+
+impl SpectrumSetup {
+    /// Number of samples recorded per run, 4km.
+    pub fn samples(&self) -> usize {
+        4 * self.k * self.m
+    }
+
+    /// Steps per run (transient plus recording).
+    pub fn steps(&self) -> u64 {
+        self.transient + self.samples() as u64 * self.t0
+    }
+
+    /// The NR estimator's parameters (1988 "Parzen" triangular window).
+    pub fn spectrum_params(&self) -> SpectrumParams {
+        SpectrumParams {
+            m: self.m,
+            k: self.k,
+            window: Window::Parzen1988,
+        }
+    }
+}
+
+/// One run's spectrum and its fit.
+#[derive(Debug, Clone, Serialize)]
+pub struct SpectrumRun {
+    /// Seed of the run.
+    pub seed: u64,
+    /// P(j), j = 0..m.
+    pub spectrum: Vec<f64>,
+    /// alpha of this run (peak removed).
+    pub alpha: f64,
+    /// Standard error of this run's alpha from the fit.
+    pub alpha_err: f64,
+    /// Peak bin inside the fit range.
+    pub j_peak: usize,
+    /// Wave velocity from the peak, L j / (T0 2m).
+    pub v_peak: f64,
+}
+
+/// Record the bin series of one run and analyse it. `tick(steps)` reports progress.
+pub fn bin_spectrum(
+    setup: &SpectrumSetup,
+    seed: u64,
+    tick: &(dyn Fn(u64) + Sync),
+) -> Result<SpectrumRun> {
+    let mut pipe = Pipe::new(setup.params, setup.rules, seed)?;
+    let chunk = 10_000u64;
+    let mut left = setup.transient;
+    while left > 0 {
+        let n = left.min(chunk);
+        pipe.run(n)?;
+        tick(n);
+        left -= n;
+    }
+    let samples = setup.samples();
+    let mut series = Vec::with_capacity(samples);
+    for s in 0..samples {
+        pipe.run(setup.t0)?;
+        series.push(pipe.bin_count(setup.bin_index) as f64);
+        if s % 1000 == 999 {
+            tick(1000 * setup.t0);
+        }
+    }
+    let spectrum = spctrm(&series, &setup.spectrum_params())?;
+    let est = estimate_alpha(&spectrum)?;
+    Ok(SpectrumRun {
+        seed,
+        alpha: est.fit.alpha,
+        alpha_err: est.fit.alpha_err,
+        j_peak: est.j_peak,
+        v_peak: wave_velocity(setup.params.length, est.j_peak, setup.t0 as usize, setup.m),
+        spectrum,
+    })
+}
+
+/// An ensemble of runs: per-run estimates and the averaged spectrum.
+#[derive(Debug, Clone)]
+pub struct SpectrumEnsemble {
+    /// The runs, in seed order.
+    pub runs: Vec<SpectrumRun>,
+    /// The spectrum averaged over runs.
+    pub mean_spectrum: Vec<f64>,
+    /// Fit of the averaged spectrum.
+    pub fit_of_mean: AlphaEstimate,
+    /// Mean over runs of the per-run alpha.
+    pub alpha: f64,
+    /// Standard error of that mean (spread over runs; 0 for one run, where the
+    /// fit's own error is used instead).
+    pub alpha_err: f64,
+    /// Peak of the averaged spectrum.
+    pub j_peak: usize,
+    /// Velocity of that peak.
+    pub v_peak: f64,
+    /// Standard error of the per-run peak velocities.
+    pub v_err: f64,
+}
+
+/// Run `seeds.len()` independent runs on all cores and combine them.
+pub fn spectrum_ensemble(
+    setup: &SpectrumSetup,
+    seeds: &[u64],
+    tick: &(dyn Fn(u64) + Sync),
+) -> Result<SpectrumEnsemble> {
+    let runs: Vec<SpectrumRun> = ensemble(seeds.len(), |i| bin_spectrum(setup, seeds[i], tick))
+        .into_iter()
+        .collect::<Result<_>>()?;
+    let spectra: Vec<Vec<f64>> = runs.iter().map(|r| r.spectrum.clone()).collect();
+    let mean_spectrum = average_spectra(&spectra)?;
+    let fit_of_mean = estimate_alpha(&mean_spectrum)?;
+    let alphas: Vec<f64> = runs.iter().map(|r| r.alpha).collect();
+    let (alpha, mut alpha_err) = mean_sem(&alphas);
+    if runs.len() == 1 {
+        alpha_err = runs[0].alpha_err;
+    }
+    let vs: Vec<f64> = runs.iter().map(|r| r.v_peak).collect();
+    let (_, v_err) = mean_sem(&vs);
+    let j_peak = fit_of_mean.j_peak;
+    Ok(SpectrumEnsemble {
+        v_peak: wave_velocity(setup.params.length, j_peak, setup.t0 as usize, setup.m),
+        runs,
+        mean_spectrum,
+        fit_of_mean,
+        alpha,
+        alpha_err,
+        j_peak,
+        v_err,
+    })
+}
+
+/// Log-log plot of the averaged spectrum with the fitted line over the fit
+/// range and the peak marked.
+pub fn plot_spectrum(path: &Path, title: &str, ens: &SpectrumEnsemble, label: &str) -> Result<()> {
+    let lines = spectrum_lines(ens, label, 0);
+    line_chart_at(
+        path,
+        title,
+        "j (frequency j/(2m) per sample of T0 steps)",
+        "P(j)",
+        &lines,
+        true,
+        SeriesLabelPosition::LowerLeft,
+    )
+}
+
+/// The lines of one spectrum (data, fit, peak) in colour `c` of the palette.
+pub fn spectrum_lines(ens: &SpectrumEnsemble, label: &str, c: usize) -> Vec<Line> {
+    let p = &ens.mean_spectrum;
+    let data: Vec<(f64, f64)> = (1..p.len()).map(|j| (j as f64, p[j])).collect();
+    let fit = &ens.fit_of_mean.fit;
+    let (lo, hi) = crate::analysis::fit::default_fit_range(p.len());
+    let fitted: Vec<(f64, f64)> = [lo, hi]
+        .iter()
+        .map(|&j| {
+            (
+                j as f64,
+                10f64.powf(fit.log10_amplitude - fit.alpha * (j as f64).log10()),
+            )
+        })
+        .collect();
+    vec![
+        Line::new(label, data, PALETTE[c % PALETTE.len()]),
+        Line::new(
+            &format!(
+                "fit {lo}..{hi}: alpha = {:.2} (runs: {:.2} +- {:.2})",
+                fit.alpha, ens.alpha, ens.alpha_err
+            ),
+            fitted,
+            PALETTE[(c + 1) % PALETTE.len()],
+        ),
+        Line::new(
+            &format!("peak j = {}, v = {:.3}", ens.j_peak, ens.v_peak),
+            vec![(ens.j_peak as f64, p[ens.j_peak])],
+            PALETTE[(c + 2) % PALETTE.len()],
+        )
+        .markers(),
+    ]
+}
+
+/// Rows of the per-run table: seed, alpha, alpha_err, j_peak, v_peak.
+pub fn run_rows(ens: &SpectrumEnsemble) -> Vec<Vec<f64>> {
+    ens.runs
+        .iter()
+        .map(|r| {
+            vec![
+                r.seed as f64,
+                r.alpha,
+                r.alpha_err,
+                r.j_peak as f64,
+                r.v_peak,
+            ]
+        })
+        .collect()
+}
+
+/// Rows of the spectrum table: j, frequency (cycles per sample), mean P(j).
+pub fn spectrum_rows(ens: &SpectrumEnsemble) -> Vec<Vec<f64>> {
+    let m = ens.mean_spectrum.len();
+    ens.mean_spectrum
+        .iter()
+        .enumerate()
+        .map(|(j, &p)| vec![j as f64, j as f64 / (2 * m) as f64, p])
+        .collect()
+}
+
+/// The spectrum set-up of a tier: `quick` m = 4096 (65536 samples per run),
+/// `standard` m = 8192, `paper` m = 16384 (the papers' 256K samples); always
+/// k = 4, T0 = 10, bin 0, and a transient of 50000 steps.
+pub fn tier_setup(tier: crate::run::Tier, params: Params, rules: Rules) -> SpectrumSetup {
+    SpectrumSetup {
+        params,
+        rules,
+        transient: 50_000,
+        t0: 10,
+        m: tier.pick(4096, 8192, 16384),
+        k: 4,
+        bin_index: 0,
+    }
+}
+
+/// Tolerance of a comparison: twice the combined standard error of the
+/// measurement (spread over runs) and of the published value.
+pub fn tolerance(measured_err: f64, published_err: f64) -> f64 {
+    2.0 * (measured_err * measured_err + published_err * published_err).sqrt()
+}
+
+/// Sensitivity of alpha (fit of a spectrum) to the width of the excluded
+/// peak (`alpha_hw<w>` for the half-widths of
+/// [`crate::analysis::fit::default_sensitivity_widths`]) and to log-binning
+/// (`alpha_logbins`, 20 bins per decade, default exclusion).
+pub fn alpha_sensitivity_metrics(p: &[f64], j_peak: usize) -> Result<Vec<(String, f64)>> {
+    use crate::analysis::fit::{
+        alpha_sensitivity, default_peak_half_width, default_sensitivity_widths, exclude_peak,
+        fit_power_law, Binning, PowerLawParams,
+    };
+    let m = p.len();
+    let params = PowerLawParams::default_for(m);
+    let mut out: Vec<(String, f64)> =
+        alpha_sensitivity(p, &params, j_peak, &default_sensitivity_widths(m))?
+            .into_iter()
+            .map(|(w, f)| (format!("alpha_hw{w}"), f.alpha))
+            .collect();
+    let mut logb = params.clone();
+    logb.binning = Binning::LogBins { per_decade: 20 };
+    logb.exclude
+        .push(exclude_peak(j_peak, default_peak_half_width(m)));
+    out.push(("alpha_logbins".to_string(), fit_power_law(p, &logb)?.alpha));
+    Ok(out)
+}
+
+/// Why a spectral check may fail: the reason recorded with every failing check.
+pub const DISCREPANCY: &str =
+    "known discrepancy of this rule reading, see EXPERIMENTS.md 'Known discrepancies'";
+
+/// A published value with its uncertainty: `(value, error)`.
+pub type Published = (f64, f64);
+
+/// What a single-spectrum figure (PH94 Fig. 2, PH95 Fig. 6) runs and checks.
+#[derive(Debug, Clone)]
+pub struct SpectrumFigure<'a> {
+    /// Binary name and output folder, e.g. `fig2`.
+    pub binary: &'a str,
+    /// Paper and figure, e.g. `PH94 Fig. 2`.
+    pub paper: &'a str,
+    /// The pipe.
+    pub params: Params,
+    /// Published alpha and its uncertainty.
+    pub alpha: Published,
+    /// Published peak velocity and its uncertainty, if any.
+    pub v_peak: Option<Published>,
+    /// Note appended to every check (e.g. why a value is a known discrepancy).
+    pub note: &'a str,
+}
+
+/// Run an ensemble of spectra for `fig` at the options `common` and `rules`,
+/// write `spectrum.csv`, `runs.csv`, the PNG and `summary.json` (metrics
+/// `alpha`, `alpha_err`, `j_peak`, `v_peak`), and print the checks.
+pub fn run_figure(
+    fig: &SpectrumFigure,
+    common: &crate::cli::Common,
+    rules: Rules,
+) -> Result<crate::run::Summary> {
+    use crate::run::{derive_seed, progress, Check, Output, Summary};
+    let setup = tier_setup(common.tier, fig.params, rules);
+    let runs = common.runs_or(4, 8, 8);
+    let seeds: Vec<u64> = (0..runs as u64)
+        .map(|i| derive_seed(common.seed, i))
+        .collect();
+    let out = Output::new(&common.out, fig.binary)?;
+    let start = std::time::Instant::now();
+    let pb = progress(
+        runs as u64 * setup.steps(),
+        &format!("{} steps", fig.binary),
+    );
+    let ens = spectrum_ensemble(&setup, &seeds, &|n| pb.inc(n))?;
+    pb.finish();
+    let wall = start.elapsed().as_secs_f64();
+
+    out.write_csv(
+        "spectrum.csv",
+        &["j", "frequency", "P"],
+        &spectrum_rows(&ens),
+    )?;
+    out.write_csv(
+        "runs.csv",
+        &["seed", "alpha", "alpha_err", "j_peak", "v_peak"],
+        &run_rows(&ens),
+    )?;
+    let p = &fig.params;
+    plot_spectrum(
+        &out.path(&format!("{}.png", fig.binary)),
+        &format!(
+            "{}: spectrum of one bin, L = {}, p = {}, g = {}, b = {}, {runs} runs, rules {rules}",
+            fig.paper, p.length, p.p, p.g, p.b
+        ),
+        &ens,
+        &format!("P(j), mean of {runs} runs, m = {}", setup.m),
+    )?;
+    let mut metrics = std::collections::BTreeMap::new();
+    metrics.insert("alpha".to_string(), ens.alpha);
+    metrics.insert("alpha_err".to_string(), ens.alpha_err);
+    metrics.insert(
+        "alpha_of_mean_spectrum".to_string(),
+        ens.fit_of_mean.fit.alpha,
+    );
+    metrics.insert("j_peak".to_string(), ens.j_peak as f64);
+    // j in units of the papers' m = 16384, for comparison with PH94's j = 596
+    metrics.insert(
+        "j_peak_m16384".to_string(),
+        ens.j_peak as f64 * 16384.0 / setup.m as f64,
+    );
+    metrics.insert("v_peak".to_string(), ens.v_peak);
+    metrics.insert("v_peak_err".to_string(), ens.v_err);
+    metrics.insert("peak_contrast".to_string(), ens.fit_of_mean.contrast);
+    for (name, value) in alpha_sensitivity_metrics(&ens.mean_spectrum, ens.j_peak)? {
+        metrics.insert(name, value);
+    }
+    let mut checks = vec![Check::new(
+        "alpha",
+        ens.alpha,
+        ens.alpha_err,
+        Some(fig.alpha.0),
+        tolerance(ens.alpha_err, fig.alpha.1),
+        &format!(
+            "tolerance = 2 sqrt(SE_runs^2 + {}^2){}",
+            fig.alpha.1, fig.note
+        ),
+    )];
+    if let Some(v) = fig.v_peak {
+        checks.push(Check::new(
+            "v_peak",
+            ens.v_peak,
+            ens.v_err,
+            Some(v.0),
+            tolerance(ens.v_err, v.1),
+            &format!("tolerance = 2 sqrt(SE_runs^2 + {}^2){}", v.1, fig.note),
+        ));
+    }
+    crate::run::mark_discrepancies(&mut checks, DISCREPANCY);
+    let summary = Summary {
+        figure: fig.binary.into(),
+        paper: fig.paper.into(),
+        tier: common.tier,
+        seeds,
+        params: serde_json::json!({"pipe": fig.params, "setup": setup}),
+        rules: rules.to_string(),
+        wall_seconds: wall,
+        site_updates: (runs as u64 * setup.steps() * p.sites() as u64) as f64,
+        metrics,
+        checks,
+    };
+    out.finish(&summary)?;
+    Ok(summary)
+}
