@@ -120,6 +120,15 @@ fn main() -> granular_automata::Result<()> {
         let rs = &recs[c];
         site_updates += rs.iter().map(|r| r.site_updates).sum::<f64>();
         let a = analyse_outflow(rs, m)?;
+        // the window taken literally: from opening while > 30% full
+        let mut open30 = (0.0, 0.0);
+        for r in rs {
+            let w = r.window(0.0, WINDOW_FULL);
+            let mu = w.iter().sum::<f64>() / w.len().max(1) as f64;
+            let var = w.iter().map(|q| (q - mu).powi(2)).sum::<f64>() / (w.len().max(2) - 1) as f64;
+            open30.0 += mu / rs.len() as f64;
+            open30.1 += var.sqrt() / rs.len() as f64;
+        }
         let (p, fit, k) = (a.spectrum.clone(), a.fit, a.k);
         let n = rs.len() as f64;
         for (j, &pj) in p.iter().enumerate() {
@@ -146,6 +155,8 @@ fn main() -> granular_automata::Result<()> {
             ("spectrum_high_to_low", a.high_to_low),
             ("lag1_correlation", a.lag1),
             ("empty_iterations", emptied),
+            ("mean_rate_open_to_30", open30.0),
+            ("sd_rate_open_to_30", open30.1),
             (
                 "initial_grains",
                 rs.iter().map(|r| r.initial as f64).sum::<f64>() / n,

@@ -110,7 +110,11 @@ impl Record {
                 .position(|&g| (g as f64) <= limit)
                 .unwrap_or(self.inside.len())
         };
-        let a = (first((1.0 - skip) * n0) + 1).min(self.inside.len());
+        let a = if skip > 0.0 {
+            (first((1.0 - skip) * n0) + 1).min(self.inside.len())
+        } else {
+            0
+        };
         let b = first(full * n0).max(a);
         &self.outflow[a..b]
     }
