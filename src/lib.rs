@@ -15,6 +15,7 @@
 pub mod analysis;
 pub mod cli;
 pub mod error;
+pub mod hopper;
 pub mod lattice;
 pub mod pipe;
 pub mod plot;

@@ -1,0 +1,333 @@
+//! The energy of a grain (MODEL.md B4) and its precomputed tables.
+//!
+//! A grain state is `s = 7 * O + v` with orientation `O` in `0..3`
+//! (vertical, +60°, -60°) and motion `v` in `0..=6` (0 = rest, else a lattice
+//! direction). The pair factor `F_shear^alpha * F_orient^beta` depends only on
+//! the two states and is tabulated for all 21 x 21 pairs; `F_dilation^gamma`
+//! depends on the spacing `d` of the pair and is the only per-pair power.
+
+use crate::error::{check_min, check_range, Error, Result};
+use serde::Serialize;
+
+/// Number of grain states: 3 orientations x 7 motions (MODEL.md B1).
+pub const STATES: usize = 21;
+
+/// Names of the three orientations (MODEL.md B1).
+pub const ORIENTATION_NAMES: [&str; 3] = ["vertical", "+60°", "-60°"];
+
+/// Orientation of state `s` (0 vertical, 1 = +60°, 2 = -60°).
+pub fn orientation(s: usize) -> usize {
+    s / 7
+}
+
+/// Motion of state `s` (0 rest, 1..=6 a lattice direction).
+pub fn motion(s: usize) -> usize {
+    s % 7
+}
+
+/// The state with orientation `o` and motion `v`.
+pub fn state(o: usize, v: usize) -> usize {
+    7 * o + v
+}
+
+/// The orientation axis parallel to direction `c` (1..=6): directions 1/4
+/// are vertical (0), 2/5 lie at +60° from vertical (1), 3/6 at -60° (2).
+pub fn axis_of(c: usize) -> usize {
+    (c - 1) % 3
+}
+
+/// Which pairs count as "aligned" in F_orient (MODEL.md B4, a choice).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Aligned {
+    /// The literal reading (default): `O_i = O_N` and that axis is parallel
+    /// to `v_i` or to `v_N` (MODEL.md B4).
+    AlongVelocity,
+    /// The variant: `O_i = O_N` alone (MODEL.md B4).
+    SameOrientation,
+}
+
+impl Aligned {
+    /// Short name for printouts and file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Aligned::AlongVelocity => "along-velocity",
+            Aligned::SameOrientation => "same-orientation",
+        }
+    }
+}
+
+/// Parameters of the energy (MODEL.md B4); defaults from BB90 Fig. 2.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EnergyParams {
+    /// Delta: gravity penalty for not falling into a hole below (MODEL.md B4).
+    pub delta: f64,
+    /// C: cohesion, in [0, 1); F_dilation = 1/d for d <= 1/(1-C) (MODEL.md B4).
+    pub c: f64,
+    /// S: orientation factor of an aligned pair, in (0, 1] (MODEL.md B4).
+    pub s: f64,
+    /// alpha: exponent of F_shear (MODEL.md B4).
+    pub alpha: f64,
+    /// beta: exponent of F_orient; 0 is the structureless grain (MODEL.md B4).
+    pub beta: f64,
+    /// gamma: exponent of F_dilation (MODEL.md B4).
+    pub gamma: f64,
+    /// The reading of "aligned" (MODEL.md B4).
+    pub aligned: Aligned,
+}
+
+impl Default for EnergyParams {
+    /// BB90 Fig. 2: Delta = 3.0, C = 0.2, S = 0.01, alpha = 3.0, beta = 1.0,
+    /// gamma = 2.0, literal reading of "aligned".
+    fn default() -> Self {
+        EnergyParams {
+            delta: 3.0,
+            c: 0.2,
+            s: 0.01,
+            alpha: 3.0,
+            beta: 1.0,
+            gamma: 2.0,
+            aligned: Aligned::AlongVelocity,
+        }
+    }
+}
+
+impl EnergyParams {
+    /// Check every parameter; errors name the value and the allowed range.
+    pub fn validate(&self) -> Result<()> {
+        check_range("Delta", self.delta, 0.0, 1e6)?;
+        if !(self.c.is_finite() && self.c >= 0.0 && self.c < 1.0) {
+            return Err(Error::out_of_range("C", self.c, "[0, 1)"));
+        }
+        if !(self.s.is_finite() && self.s > 0.0 && self.s <= 1.0) {
+            return Err(Error::out_of_range("S", self.s, "(0, 1]"));
+        }
+        check_range("alpha", self.alpha, 0.0, 20.0)?;
+        check_range("beta", self.beta, 0.0, 20.0)?;
+        check_range("gamma", self.gamma, 0.0, 20.0)?;
+        Ok(())
+    }
+}
+
+/// How the spacing d of F_dilation is measured (MODEL.md B4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum DilationReading {
+    /// The ray reading (default): rays of up to K steps stop at grains and
+    /// walls, averaged over tau iterations (MODEL.md B4).
+    Rays,
+    /// Wrong reading kept for the tests: rays pass through walls (MODEL.md
+    /// B4 says this gives slip at the walls).
+    RaysThroughWalls,
+    /// Wrong reading kept for the tests: d = 1 always (MODEL.md B4: jams).
+    Unit,
+}
+
+/// Parameters of the dilation spacing d (MODEL.md B4).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DilationParams {
+    /// Which reading of d.
+    pub reading: DilationReading,
+    /// K: longest ray, in lattice steps (MODEL.md B4; 3).
+    pub k: usize,
+    /// tau: iterations of the running average D_i (MODEL.md B4; 8).
+    pub tau: f64,
+}
+
+impl Default for DilationParams {
+    /// Rays, K = 3, tau = 8 (MODEL.md B4).
+    fn default() -> Self {
+        DilationParams {
+            reading: DilationReading::Rays,
+            k: 3,
+            tau: 8.0,
+        }
+    }
+}
+
+impl DilationParams {
+    /// Check K and tau.
+    pub fn validate(&self) -> Result<()> {
+        check_min("K", self.k, 1)?;
+        if self.k > 32 {
+            return Err(Error::out_of_range("K", self.k, "[1, 32]"));
+        }
+        check_range("tau", self.tau, 1.0, 1e6)?;
+        Ok(())
+    }
+}
+
+/// Exact |e_a - e_b| for motions a, b in 0..=6 (rest = 0 vector).
+pub fn speed_difference(a: usize, b: usize) -> f64 {
+    match (a, b) {
+        (0, 0) => 0.0,
+        (0, _) | (_, 0) => 1.0,
+        _ => {
+            let k = (a + 6 - b) % 6;
+            match k.min(6 - k) {
+                0 => 0.0,
+                1 => 1.0,
+                2 => 3f64.sqrt(),
+                _ => 2.0,
+            }
+        }
+    }
+}
+
+/// F_shear = |v_N - v_i| + 0.1 (MODEL.md B4).
+pub fn f_shear(vi: usize, vn: usize) -> f64 {
+    speed_difference(vi, vn) + 0.1
+}
+
+/// Whether states `si`, `sn` are aligned under `reading` (MODEL.md B4).
+pub fn aligned(si: usize, sn: usize, reading: Aligned) -> bool {
+    let (oi, on) = (orientation(si), orientation(sn));
+    if oi != on {
+        return false;
+    }
+    match reading {
+        Aligned::SameOrientation => true,
+        Aligned::AlongVelocity => {
+            let (vi, vn) = (motion(si), motion(sn));
+            (vi != 0 && axis_of(vi) == oi) || (vn != 0 && axis_of(vn) == oi)
+        }
+    }
+}
+
+/// The tabulated energy (MODEL.md B4).
+#[derive(Debug, Clone)]
+pub struct EnergyTable {
+    /// The parameters it was built from.
+    pub params: EnergyParams,
+    /// `pair[si * 21 + sn] = F_shear(v_i, v_N)^alpha * F_orient(i, N)^beta`.
+    pub pair: Vec<f64>,
+    /// 1/(1-C): the largest spacing with F_dilation = 1/d.
+    pub d_max: f64,
+    /// 0.2^gamma: F_dilation^gamma of a dilated pair.
+    pub dilated: f64,
+}
+
+impl EnergyTable {
+    /// Build the tables (validates the parameters).
+    pub fn new(params: EnergyParams) -> Result<Self> {
+        params.validate()?;
+        let mut pair = vec![0.0; STATES * STATES];
+        for si in 0..STATES {
+            for sn in 0..STATES {
+                let shear = f_shear(motion(si), motion(sn)).powf(params.alpha);
+                let orient = if aligned(si, sn, params.aligned) {
+                    params.s
+                } else {
+                    1.0
+                };
+                pair[si * STATES + sn] = shear * orient.powf(params.beta);
+            }
+        }
+        Ok(EnergyTable {
+            params,
+            pair,
+            d_max: 1.0 / (1.0 - params.c),
+            dilated: 0.2f64.powf(params.gamma),
+        })
+    }
+
+    /// F_dilation(d)^gamma: (1/d)^gamma if d <= 1/(1-C), else 0.2^gamma.
+    pub fn dilation_weight(&self, d: f64) -> f64 {
+        if d <= self.d_max {
+            d.powf(-self.params.gamma)
+        } else {
+            self.dilated
+        }
+    }
+
+    /// E_gravity: Delta when a site below is a hole and `v` is not a downward
+    /// move (moves only go to holes), else 0.
+    pub fn gravity(&self, hole_below: bool, v: usize) -> f64 {
+        if hole_below && !(3..=5).contains(&v) {
+            self.params.delta
+        } else {
+            0.0
+        }
+    }
+
+    /// A printable table of F_shear^alpha * F_orient^beta (rows: grain i).
+    pub fn describe(&self) -> String {
+        let mut s = String::from(
+            "pair factor F_shear^alpha * F_orient^beta, row = (O_i, v_i), column = (O_N, v_N)\n",
+        );
+        for si in 0..STATES {
+            let row: Vec<String> = (0..STATES)
+                .map(|sn| format!("{:.4}", self.pair[si * STATES + sn]))
+                .collect();
+            s.push_str(&format!(
+                "O{} v{}: {}\n",
+                orientation(si),
+                motion(si),
+                row.join(" ")
+            ));
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shear_values_of_model_b4() {
+        assert!((f_shear(0, 0) - 0.1).abs() < 1e-12);
+        assert!((f_shear(4, 0) - 1.1).abs() < 1e-12);
+        assert!((f_shear(4, 5) - 1.1).abs() < 1e-12);
+        assert!((f_shear(4, 6) - (3f64.sqrt() + 0.1)).abs() < 1e-12);
+        assert!((f_shear(4, 1) - 2.1).abs() < 1e-12);
+        // agrees with the vector difference
+        for a in 0..=6 {
+            for b in 0..=6 {
+                let (ax, ay) = crate::lattice::velocity(a);
+                let (bx, by) = crate::lattice::velocity(b);
+                let d = ((ax - bx).powi(2) + (ay - by).powi(2)).sqrt();
+                assert!((speed_difference(a, b) - d).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn literal_jam_arithmetic_of_model_b4() {
+        // five resting neighbours at d = 1 outweigh Delta: 5 * 1.1^3 > 3
+        let t = EnergyTable::new(EnergyParams::default()).unwrap();
+        let fall = 5.0 * t.pair[state(0, 4) * STATES + state(1, 0)] * t.dilation_weight(1.0);
+        assert!(fall > t.params.delta);
+        // a dilated pair (d = 8/6 > 1.25) lets the grain fall
+        let fall = 5.0 * t.pair[state(0, 4) * STATES + state(1, 0)] * t.dilation_weight(8.0 / 6.0);
+        assert!(fall < t.params.delta);
+    }
+
+    #[test]
+    fn aligned_readings() {
+        // same orientation, both at rest: aligned only in the variant
+        let (a, b) = (state(0, 0), state(0, 0));
+        assert!(!aligned(a, b, Aligned::AlongVelocity));
+        assert!(aligned(a, b, Aligned::SameOrientation));
+        // vertical grains, one moving down: aligned in both
+        assert!(aligned(state(0, 4), b, Aligned::AlongVelocity));
+        // vertical grains moving down-left: not along the axis
+        assert!(!aligned(state(0, 3), b, Aligned::AlongVelocity));
+        assert!(!aligned(state(0, 4), state(1, 4), Aligned::SameOrientation));
+    }
+
+    #[test]
+    fn bad_parameters_are_errors() {
+        let p = EnergyParams {
+            c: 1.0,
+            ..Default::default()
+        };
+        let e = EnergyTable::new(p).unwrap_err();
+        assert!(e.message.contains("C = 1"), "{}", e.message);
+        let p = EnergyParams {
+            s: 0.0,
+            ..Default::default()
+        };
+        assert!(EnergyTable::new(p).is_err());
+    }
+}

@@ -1,0 +1,107 @@
+//! Smoke tests of the two hopper figure binaries at the quick tier: the
+//! output contract (PNGs, CSVs, summary.json with every field) and the
+//! metrics that end up on the plots. The binaries are deterministic (base
+//! seed 1), so the asserted ranges are wide margins around one known run,
+//! not statistical tolerances; the statistical checks are in
+//! `hopper_acceptance.rs`.
+
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+/// Base seed passed to the binaries.
+const SEED: &str = "1";
+
+fn run(bin: &str, exe: &str) -> serde_json::Value {
+    let out: PathBuf =
+        std::env::temp_dir().join(format!("hopper-figures-{}-{bin}", std::process::id()));
+    let status = Command::new(exe)
+        .args(["--tier", "quick", "--seed", SEED, "--out"])
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .expect("binary runs");
+    assert!(status.success(), "{bin} failed");
+    let dir = out.join(bin);
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json written");
+    let v: serde_json::Value = serde_json::from_str(&text).expect("valid json");
+    for key in [
+        "figure",
+        "paper",
+        "tier",
+        "seeds",
+        "params",
+        "rules",
+        "wall_seconds",
+        "site_updates",
+        "metrics",
+        "checks",
+    ] {
+        assert!(v.get(key).is_some(), "{bin}: summary.json lacks {key}");
+    }
+    let pngs = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "png")
+        })
+        .count();
+    assert!(pngs >= 3, "{bin}: {pngs} PNGs");
+    std::fs::remove_dir_all(&out).ok();
+    v
+}
+
+fn metric(v: &serde_json::Value, name: &str) -> f64 {
+    v["metrics"][name]
+        .as_f64()
+        .unwrap_or_else(|| panic!("metric {name} missing"))
+}
+
+#[test]
+fn hopper_fig2_writes_its_figure_and_metrics() {
+    let v = run("hopper-fig2", env!("CARGO_BIN_EXE_hopper-fig2"));
+    assert_eq!(v["paper"], "BB90 Fig. 2");
+    for case in ["beta0", "beta1_along", "beta1_same"] {
+        for m in [
+            "core_width_low",
+            "core_width_high",
+            "occupancy_core",
+            "occupancy_sides",
+            "order_half_empty",
+            "g8_half_empty",
+        ] {
+            metric(&v, &format!("{case}_{m}"));
+        }
+        assert_eq!(
+            metric(&v, &format!("{case}_remaining_grains")),
+            0.0,
+            "{case} empties"
+        );
+    }
+    assert!((metric(&v, "beta0_order_half_empty") - 1.0 / 3.0).abs() < 0.03);
+    assert!(metric(&v, "beta1_along_order_half_empty") > 0.5);
+    assert!(metric(&v, "beta0_occupancy_core") < metric(&v, "beta0_occupancy_sides"));
+}
+
+#[test]
+fn hopper_fig3_writes_its_figure_and_metrics() {
+    let v = run("hopper-fig3", env!("CARGO_BIN_EXE_hopper-fig3"));
+    assert_eq!(v["paper"], "BB90 Fig. 3");
+    for case in ["beta0", "beta1_along", "beta1_same"] {
+        for m in [
+            "mean_rate",
+            "sd_rate",
+            "rate_first_half",
+            "rate_second_half",
+            "spectral_slope",
+            "spectral_slope_err",
+        ] {
+            metric(&v, &format!("{case}_{m}"));
+        }
+        let rate = metric(&v, &format!("{case}_mean_rate"));
+        assert!(rate > 1.0 && rate < 3.0, "{case}: rate {rate}");
+    }
+}
