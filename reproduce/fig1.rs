@@ -7,8 +7,8 @@
 
 use clap::Parser;
 use granular_automata::cli::{Common, PipeRules};
-use granular_automata::pipe::record::{bands, record, Bands, Record};
-use granular_automata::pipe::{Params, Pipe, Rules};
+use granular_automata::pipe::record::{fig1_panels, Bands, Record};
+use granular_automata::pipe::Params;
 use granular_automata::plot::{plot_err, register_fonts, SpaceTime};
 use granular_automata::run::{derive_seed, ensemble, mean_sem, progress, Check, Output, Summary};
 use plotters::prelude::*;
@@ -30,44 +30,6 @@ struct Args {
 /// fixed a priori: an uncorrelated gas gives 1.
 const WAVE_THRESHOLD: f64 = 2.0;
 const PANELS: [&str; 4] = ["a", "b", "c", "d"];
-
-fn one_run(
-    base: Params,
-    rules: Rules,
-    seed: u64,
-    steps: u64,
-    every: u64,
-    tick: &(dyn Fn(u64) + Sync),
-) -> granular_automata::Result<Vec<(Record, Bands)>> {
-    let stats = |rec: Record, params: &Params| {
-        let b = bands(&rec, rec.n.len() / 2, params.rho, params.bin, params.width);
-        (rec, b)
-    };
-    let pa = Params { p: 0.1, ..base };
-    let pb = Params { p: 0.0, ..base };
-    let pd = Params {
-        p: 0.1,
-        b: 0.0,
-        ..base
-    };
-    let mut a = Pipe::new(pa, rules, seed)?;
-    let ra = record(&mut a, steps, every, |_| tick(every))?;
-    let mut b = Pipe::new(pb, rules, seed)?;
-    let rb = record(&mut b, steps, every, |_| tick(every))?;
-    b.set_p(0.1)?;
-    let mut rc = record(&mut b, steps, every, |_| tick(every))?;
-    rc.n.remove(0); // the first sample of (c) is the last of (b)
-    rc.energy.remove(0);
-    rc.t0 += every;
-    let mut d = Pipe::new(pd, rules, seed)?;
-    let rd = record(&mut d, steps, every, |_| tick(every))?;
-    Ok(vec![
-        stats(ra, &pa),
-        stats(rb, &pb),
-        stats(rc, &pa),
-        stats(rd, &pd),
-    ])
-}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
@@ -97,7 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let pb = progress(runs as u64 * 4 * steps, "fig1 steps");
     let tick = |n: u64| pb.inc(n);
     let results = ensemble(runs, |i| {
-        one_run(base, rules, seeds[i], steps, every, &tick)
+        fig1_panels(base, rules, seeds[i], steps, every, &tick)
     });
     pb.finish();
     let results: Vec<Vec<(Record, Bands)>> = results.into_iter().collect::<Result<_, _>>()?;

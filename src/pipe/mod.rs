@@ -17,6 +17,7 @@
 //! assert_eq!(pipe.bin_counts().len(), 6); // bins of 10 rows
 //! ```
 
+pub mod claims;
 pub mod collision;
 pub mod observables;
 pub mod record;

@@ -3,7 +3,7 @@
 //! band statistics of MODEL.md A11 over the late part of the record.
 
 use super::observables::{contrast, random_start_bin_variance, LowK};
-use super::Pipe;
+use super::{Params, Pipe, Rules};
 use crate::error::Result;
 use serde::{Deserialize, Serialize};
 
@@ -89,4 +89,59 @@ pub fn bands(rec: &Record, from: usize, rho: f64, bin: usize, width: usize) -> B
         contrast: c / samples.len().max(1) as f64,
         s_low: low.mean(),
     }
+}
+
+/// The four runs of PH94 Fig. 1 for one seed, each with its band statistics
+/// over the second half: (a) p = 0.1; (b) p = 0; (c) (b) continued with
+/// p = 0.1; (d) p = 0.1, b = 0; everything else from `base`.
+pub fn fig1_panels(
+    base: Params,
+    rules: Rules,
+    seed: u64,
+    steps: u64,
+    every: u64,
+    tick: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<(Record, Bands)>> {
+    let stats = |rec: Record, params: &Params| {
+        let b = bands(&rec, rec.n.len() / 2, params.rho, params.bin, params.width);
+        (rec, b)
+    };
+    let pa = Params { p: 0.1, ..base };
+    let pb = Params { p: 0.0, ..base };
+    let pd = Params {
+        p: 0.1,
+        b: 0.0,
+        ..base
+    };
+    let mut a = Pipe::new(pa, rules, seed)?;
+    let ra = record(&mut a, steps, every, |_| tick(every))?;
+    let mut b = Pipe::new(pb, rules, seed)?;
+    let rb = record(&mut b, steps, every, |_| tick(every))?;
+    b.set_p(0.1)?;
+    let mut rc = record(&mut b, steps, every, |_| tick(every))?;
+    rc.n.remove(0); // the first sample of (c) is the last of (b)
+    rc.energy.remove(0);
+    rc.t0 += every;
+    let mut d = Pipe::new(pd, rules, seed)?;
+    let rd = record(&mut d, steps, every, |_| tick(every))?;
+    Ok(vec![
+        stats(ra, &pa),
+        stats(rb, &pb),
+        stats(rc, &pa),
+        stats(rd, &pd),
+    ])
+}
+
+/// Band statistics of one run of `steps` steps sampled every `every`, over
+/// the second half (MODEL.md A11).
+pub fn run_bands(params: Params, rules: Rules, seed: u64, steps: u64, every: u64) -> Result<Bands> {
+    let mut pipe = Pipe::new(params, rules, seed)?;
+    let rec = record(&mut pipe, steps, every, |_| {})?;
+    Ok(bands(
+        &rec,
+        rec.n.len() / 2,
+        params.rho,
+        params.bin,
+        params.width,
+    ))
 }

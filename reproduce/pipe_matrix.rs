@@ -1,0 +1,262 @@
+//! The reproduction matrix (issue 4): every rule reading graded against every
+//! published claim of the pipe papers (MODEL.md A10), with the measured value
+//! and its error beside each grade. Each finished reading is saved at once
+//! (`variants/<reading>.json`) and reused when the same command is run again.
+//!
+//! `cargo run --release --bin pipe-matrix -- --tier quick`
+
+use clap::Parser;
+use granular_automata::cli::Common;
+use granular_automata::pipe::claims::{grade, grade_steps, Graded, MatrixSize, Verdict, CLAIMS};
+use granular_automata::pipe::Rules;
+use granular_automata::plot::{plot_err, register_fonts, FONT};
+use granular_automata::run::{progress, write_atomic, Check, Output, Summary};
+use plotters::prelude::*;
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// The readings graded by default: every named variant of MODEL.md and the
+/// combinations A11 mentions.
+const READINGS: &str = "ph94,any-mover,up-to-rest,ph94+wall-drag,ph94+gravity-first,ph94+rest-up,\
+ph94+wall-drag+gravity-first,any-mover+wall-drag,any-mover+rest-up";
+
+#[derive(Parser)]
+#[command(about = "Which reading of the pipe rules reproduces which published claim")]
+struct Args {
+    #[command(flatten)]
+    common: Common,
+    /// Readings to grade, comma-separated (each a --rules value).
+    #[arg(long, default_value = READINGS)]
+    readings: String,
+}
+
+/// The measured value of a cell: `m +- e`, or `n/5 agree` for the density window.
+fn value(g: &Graded) -> String {
+    if g.claim == "rho_window" {
+        format!("{:.0}/5 agree", g.measured)
+    } else {
+        format!("{:.3} +- {:.3}", g.measured, g.error)
+    }
+}
+
+/// Site updates of one reading: 9 band runs of 2200 x 11 sites, 4 spectra of
+/// 220 x 11 sites, per run.
+fn site_updates(size: MatrixSize) -> f64 {
+    let band = 9.0 * size.band_steps as f64 * 24200.0;
+    let spectra =
+        (grade_steps(size) as f64 / size.runs as f64 - 9.0 * size.band_steps as f64) * 2420.0;
+    size.runs as f64 * (band + spectra)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = Args::parse();
+    let tier = args.common.tier;
+    let mut size = MatrixSize::for_tier(tier);
+    if let Some(r) = args.common.runs {
+        size.runs = r.max(1);
+    }
+    let readings: Vec<Rules> = args
+        .readings
+        .split(',')
+        .map(|s| s.trim().parse())
+        .collect::<Result<_, _>>()?;
+    let out = Output::new(&args.common.out, "pipe-matrix")?;
+    let cache = out.path("variants");
+    std::fs::create_dir_all(&cache)?;
+    let key = format!("{}-seed{}-runs{}", tier.name(), args.common.seed, size.runs);
+
+    let start = Instant::now();
+    let pb = progress(
+        readings.len() as u64 * grade_steps(size),
+        "pipe-matrix steps",
+    );
+    let mut rows: Vec<(Rules, Vec<Graded>)> = Vec::new();
+    for &rules in &readings {
+        let file = cache.join(format!("{rules}.{key}.json"));
+        let graded: Vec<Graded> = match std::fs::read_to_string(&file) {
+            Ok(text) => {
+                pb.inc(grade_steps(size));
+                serde_json::from_str(&text)?
+            }
+            Err(_) => {
+                pb.set_message(rules.to_string());
+                let g = grade(rules, size, args.common.seed, &|n| pb.inc(n))?;
+                write_atomic(&file, serde_json::to_string_pretty(&g)?.as_bytes())?;
+                g
+            }
+        };
+        rows.push((rules, graded));
+    }
+    pb.finish();
+    let wall = start.elapsed().as_secs_f64();
+
+    // tables
+    let mut md = format!(
+        "# Reproduction matrix ({} tier, {} runs per set-up, seed {})\n\n| reading | {} | reproduced |\n|---|{}---|\n",
+        tier.name(),
+        size.runs,
+        args.common.seed,
+        CLAIMS.iter().map(|c| c.0).collect::<Vec<_>>().join(" | "),
+        "---|".repeat(CLAIMS.len())
+    );
+    let mut csv = vec![];
+    let mut metrics = BTreeMap::new();
+    for (rules, graded) in &rows {
+        let cells: Vec<String> = graded
+            .iter()
+            .map(|g| format!("{} {}", g.verdict.label(), value(g)))
+            .collect();
+        let n = graded
+            .iter()
+            .filter(|g| g.verdict == Verdict::Reproduced)
+            .count();
+        md.push_str(&format!(
+            "| `{rules}` | {} | {n}/{} |\n",
+            cells.join(" | "),
+            graded.len()
+        ));
+        metrics.insert(format!("{rules}.reproduced"), n as f64);
+        for g in graded {
+            metrics.insert(format!("{rules}.{}", g.claim), g.measured);
+            metrics.insert(format!("{rules}.{}_err", g.claim), g.error);
+            csv.push(format!(
+                "{rules},{},{},{},{},\"{}\"",
+                g.claim,
+                g.verdict.label(),
+                g.measured,
+                g.error,
+                g.detail.replace('"', "'")
+            ));
+        }
+    }
+    md.push_str("\nCells: verdict (yes = reproduced, no = not reproduced, ? = undecided), measured value +- standard error over runs.\n\nClaims:\n\n");
+    for (id, what) in CLAIMS {
+        md.push_str(&format!("- `{id}`: {what}\n"));
+    }
+    md.push_str("\nDetails:\n\n");
+    for (rules, graded) in &rows {
+        for g in graded {
+            md.push_str(&format!(
+                "- `{rules}` `{}`: {} - {}\n",
+                g.claim,
+                g.verdict.label(),
+                g.detail
+            ));
+        }
+    }
+    write_atomic(&out.path("matrix.md"), md.as_bytes())?;
+    let csv_text = format!(
+        "reading,claim,verdict,measured,error,detail\n{}\n",
+        csv.join("\n")
+    );
+    write_atomic(&out.path("matrix.csv"), csv_text.as_bytes())?;
+
+    // heat map
+    register_fonts();
+    let (w, h) = (
+        300 + 130 * CLAIMS.len() as u32,
+        140 + 60 * rows.len() as u32,
+    );
+    let path = out.path("pipe-matrix.png");
+    let root = BitMapBackend::new(&path, (w, h)).into_drawing_area();
+    root.fill(&WHITE).map_err(plot_err)?;
+    root.draw(&Text::new(
+        format!(
+            "PH94/PH95 reproduction matrix: readings x published claims ({} tier, {} runs)",
+            tier.name(),
+            size.runs
+        ),
+        (10, 10),
+        (FONT, 22),
+    ))
+    .map_err(plot_err)?;
+    for (k, (id, _)) in CLAIMS.iter().enumerate() {
+        root.draw(&Text::new(
+            id.to_string(),
+            (300 + 130 * k as i32 + 8, 60),
+            (FONT, 16),
+        ))
+        .map_err(plot_err)?;
+    }
+    for (r, (rules, graded)) in rows.iter().enumerate() {
+        let y = 90 + 60 * r as i32;
+        root.draw(&Text::new(rules.to_string(), (10, y + 20), (FONT, 16)))
+            .map_err(plot_err)?;
+        for (k, g) in graded.iter().enumerate() {
+            let x = 300 + 130 * k as i32;
+            let color = match g.verdict {
+                Verdict::Reproduced => RGBColor(120, 200, 120),
+                Verdict::NotReproduced => RGBColor(230, 120, 110),
+                Verdict::Undecided => RGBColor(200, 200, 200),
+            };
+            root.draw(&Rectangle::new([(x, y), (x + 126, y + 56)], color.filled()))
+                .map_err(plot_err)?;
+            root.draw(&Text::new(
+                g.verdict.label().to_string(),
+                (x + 6, y + 6),
+                (FONT, 18),
+            ))
+            .map_err(plot_err)?;
+            root.draw(&Text::new(
+                format!("{:.3}", g.measured),
+                (x + 6, y + 24),
+                (FONT, 14),
+            ))
+            .map_err(plot_err)?;
+            root.draw(&Text::new(
+                format!("+- {:.3}", g.error),
+                (x + 6, y + 39),
+                (FONT, 13),
+            ))
+            .map_err(plot_err)?;
+        }
+    }
+    root.draw(&Text::new(
+        "green: reproduced, red: not reproduced, grey: undecided; numbers: measured +- SE over runs (claims in matrix.md)",
+        (10, h as i32 - 30),
+        (FONT, 15),
+    ))
+    .map_err(plot_err)?;
+    root.present().map_err(plot_err)?;
+
+    // checks: the default reading's grades
+    let default = Rules::default();
+    let checks: Vec<Check> = rows
+        .iter()
+        .filter(|(r, _)| *r == default)
+        .flat_map(|(_, graded)| {
+            graded.iter().map(|g| {
+                Check::claim(
+                    &format!("default.{}", g.claim),
+                    g.measured,
+                    g.error,
+                    g.verdict == Verdict::Reproduced,
+                    &g.detail,
+                )
+            })
+        })
+        .collect();
+    out.finish(&Summary {
+        figure: "pipe-matrix".into(),
+        paper: "PH94 Figs. 1-2, PH95 Figs. 6-7 (MODEL.md A10)".into(),
+        tier,
+        seeds: vec![args.common.seed],
+        params: json!({"size": size, "readings": readings.iter().map(|r| r.to_string()).collect::<Vec<_>>()}),
+        rules: args.readings.clone(),
+        wall_seconds: wall,
+        // band runs at 2200 x 11 sites, spectra at 220 x 11 (grade_steps counts both)
+        site_updates: site_updates(size) * readings.len() as f64,
+        metrics,
+        checks,
+    })?;
+    println!(
+        "{}",
+        std::fs::read_to_string(out.path("matrix.md"))?
+            .lines()
+            .take(3 + rows.len())
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+    Ok(())
+}

@@ -1,0 +1,48 @@
+//! Smoke test of the reproduction matrix (issue 4): one reading, one run per
+//! set-up at the quick tier; the outputs exist, every claim is graded, and the
+//! cached result is reused on a second call (resume).
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::Instant;
+
+#[test]
+fn matrix_grades_every_claim_and_resumes_from_its_cache() {
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("pipe-matrix");
+    let _ = std::fs::remove_dir_all(&out);
+    let run = || {
+        let t = Instant::now();
+        let status = Command::new(env!("CARGO_BIN_EXE_pipe-matrix"))
+            .args([
+                "--tier",
+                "quick",
+                "--runs",
+                "1",
+                "--readings",
+                "ph94",
+                "--out",
+            ])
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        t.elapsed().as_secs_f64()
+    };
+    let first = run();
+    let dir = out.join("pipe-matrix");
+    for f in ["matrix.md", "matrix.csv", "pipe-matrix.png", "summary.json"] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let csv = std::fs::read_to_string(dir.join("matrix.csv")).unwrap();
+    assert_eq!(
+        csv.lines().count(),
+        1 + 11,
+        "a header and 11 graded claims:\n{csv}"
+    );
+    assert!(csv.contains("ph94,waves_1a,yes"), "{csv}");
+    let second = run();
+    assert!(
+        second < first / 3.0,
+        "second call reuses the saved reading ({second:.1} s vs {first:.1} s)"
+    );
+}
