@@ -19,6 +19,7 @@
 
 pub mod collision;
 pub mod observables;
+pub mod overlap;
 pub mod record;
 pub mod rules;
 
