@@ -75,7 +75,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..Params::default()
     };
     params.validate()?;
-    let key = json!({"params": params, "rules": rules.to_string(), "steps": STEPS, "every": EVERY});
+    let key = json!({"analysis": 1, "params": params, "rules": rules.to_string(), "steps": STEPS, "every": EVERY});
     let ens = args.common.ensemble("waves-fig2", &key, runs)?;
     let start = Instant::now();
     let outcome = ens.run(STEPS, |index, seed, tick| {

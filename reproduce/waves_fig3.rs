@@ -146,7 +146,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )
         .into());
     }
-    let key = json!({"params": params, "rules": rules.to_string(), "steps": steps, "every": every});
+    let key = json!({"analysis": 1, "params": params, "rules": rules.to_string(), "steps": steps, "every": every});
     let ens = args.common.ensemble("waves-fig3", &key, runs)?;
     let start = Instant::now();
     let outcome = ens.run(steps, |_, seed, tick| {
