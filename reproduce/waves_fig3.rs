@@ -39,7 +39,7 @@ struct Args {
     steps: Option<u64>,
 }
 
-/// One run's time series, sampled every `every` steps from t = 0.
+/// One run's time series at the sample times (`sample_times`).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 struct Series {
     /// Density contrast C(t).
@@ -58,21 +58,36 @@ fn band(runs: &[Vec<f64>]) -> (Vec<f64>, Vec<f64>) {
         .unzip()
 }
 
-/// Mean over the last quarter of a curve (the saturation value).
-fn late(v: &[f64]) -> f64 {
-    let from = v.len() - v.len() / 4;
-    v[from..].iter().sum::<f64>() / (v.len() - from) as f64
+/// Steps sampled one by one at the start, so the fast energy loss
+/// (half-time of tens of steps) is resolved at every tier.
+const EARLY: u64 = 400;
+
+/// Sample times: every step up to EARLY, then every `every` steps up to `steps`.
+fn sample_times(steps: u64, every: u64) -> Vec<u64> {
+    let mut t: Vec<u64> = (0..=EARLY.min(steps)).collect();
+    let mut x = EARLY + every;
+    while x <= steps {
+        t.push(x);
+        x += every;
+    }
+    t
 }
 
-/// Mean over the third quarter of a curve.
-fn third(v: &[f64]) -> f64 {
-    let (a, b) = (v.len() / 2, v.len() - v.len() / 4);
-    v[a..b].iter().sum::<f64>() / (b - a) as f64
+/// Mean of `v` over the samples with fa <= t / t_end < fb (fb = 1 includes the end).
+fn window(v: &[f64], times: &[f64], fa: f64, fb: f64) -> f64 {
+    let end = *times.last().expect("samples");
+    let sel: Vec<f64> = v
+        .iter()
+        .zip(times)
+        .filter(|(_, &t)| t >= fa * end && (t < fb * end || fb >= 1.0))
+        .map(|(&x, _)| x)
+        .collect();
+    sel.iter().sum::<f64>() / sel.len().max(1) as f64
 }
 
 /// First time (linear interpolation between samples) at which `v` reaches
 /// `v[0] + frac * (target - v[0])`, approaching from v[0]; NaN if never.
-fn time_to(v: &[f64], target: f64, frac: f64, every: f64) -> f64 {
+fn time_to(v: &[f64], times: &[f64], target: f64, frac: f64) -> f64 {
     let level = v[0] + frac * (target - v[0]);
     let up = target >= v[0];
     for t in 1..v.len() {
@@ -80,20 +95,21 @@ fn time_to(v: &[f64], target: f64, frac: f64, every: f64) -> f64 {
         if reached {
             let (a, b) = (v[t - 1], v[t]);
             let f = if b != a { (level - a) / (b - a) } else { 1.0 };
-            return (t as f64 - 1.0 + f.clamp(0.0, 1.0)) * every;
+            return times[t - 1] + f.clamp(0.0, 1.0) * (times[t] - times[t - 1]);
         }
     }
     f64::NAN
 }
 
-/// Half-time of the ensemble mean with a jackknife standard error over runs.
-fn half_time(runs: &[Vec<f64>], every: f64) -> (f64, f64) {
+/// Half-time of the ensemble mean (half-way from its value at t = 0 to its
+/// mean over the last quarter) with a jackknife standard error over runs.
+fn half_time(runs: &[Vec<f64>], times: &[f64]) -> (f64, f64) {
     let stat = |sel: &[&Vec<f64>]| {
         let n = sel[0].len();
         let m: Vec<f64> = (0..n)
             .map(|t| sel.iter().map(|r| r[t]).sum::<f64>() / sel.len() as f64)
             .collect();
-        time_to(&m, late(&m), 0.5, every)
+        time_to(&m, times, window(&m, times, 0.75, 1.0), 0.5)
     };
     let all: Vec<&Vec<f64>> = runs.iter().collect();
     let full = stat(&all);
@@ -135,19 +151,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..Params::default()
     };
     params.validate()?;
-    if steps < 4 * every {
+    if steps < EARLY + 4 * every {
         return Err(granular_automata::Error::out_of_range(
             "--steps",
             steps,
             &format!(
-                "[{}, inf) (at least 4 samples of every {every} steps)",
-                4 * every
+                "[{}, inf) (the first {EARLY} steps and at least 4 samples of every {every} steps)",
+                EARLY + 4 * every
             ),
         )
         .into());
     }
-    let key = json!({"analysis": 1, "params": params, "rules": rules.to_string(), "steps": steps, "every": every});
+    let key = json!({"analysis": 2, "params": params, "rules": rules.to_string(), "steps": steps, "every": every});
     let ens = args.common.ensemble("waves-fig3", &key, runs)?;
+    let times = sample_times(steps, every);
+    let tf: Vec<f64> = times.iter().map(|&t| t as f64).collect();
     let start = Instant::now();
     let outcome = ens.run(steps, |_, seed, tick| {
         let mut pipe = Pipe::new(params, rules, seed)?;
@@ -158,8 +176,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             energy_loss: Vec::new(),
             identity_error: 0.0,
         };
-        let mut t = 0;
-        loop {
+        let mut now = 0;
+        for &t in &times {
+            pipe.run(t - now)?;
+            tick(t - now);
+            now = t;
             pipe.fill_bin_counts(&mut bins);
             s.contrast.push(contrast(&bins));
             let loss = e0 - pipe.moving_count() as f64;
@@ -167,12 +188,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             s.identity_error = s
                 .identity_error
                 .max((loss - pipe.rest_count() as f64).abs());
-            if t + every > steps {
-                break;
-            }
-            pipe.run(every)?;
-            tick(every);
-            t += every;
         }
         Ok(s)
     })?;
@@ -192,15 +207,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let es: Vec<Vec<f64>> = results.iter().map(|r| r.energy_loss.clone()).collect();
     let (cm, ce) = band(&cs);
     let (em, ee) = band(&es);
-    let ev = every as f64;
-    let per_run = |v: &[Vec<f64>], f: fn(&[f64]) -> f64| {
+    let late = |v: &[f64]| window(v, &tf, 0.75, 1.0);
+    let third = |v: &[f64]| window(v, &tf, 0.5, 0.75);
+    let per_run = |v: &[Vec<f64>], f: &dyn Fn(&[f64]) -> f64| {
         mean_sem(&v.iter().map(|r| f(r)).collect::<Vec<_>>())
     };
-    let (c0, c0_err) = per_run(&cs, |r| r[0]);
-    let (c_sat, c_sat_err) = per_run(&cs, late);
-    let (e_sat, e_sat_err) = per_run(&es, late);
-    let (c_half, c_half_err) = half_time(&cs, ev);
-    let (e_half, e_half_err) = half_time(&es, ev);
+    let (c0, c0_err) = per_run(&cs, &|r| r[0]);
+    let (c_sat, c_sat_err) = per_run(&cs, &late);
+    let (e_sat, e_sat_err) = per_run(&es, &late);
+    let (c_half, c_half_err) = half_time(&cs, &tf);
+    let (e_half, e_half_err) = half_time(&es, &tf);
     let (c_drift, c_drift_err) =
         mean_sem(&cs.iter().map(|r| late(r) - third(r)).collect::<Vec<_>>());
     let (e_drift, e_drift_err) =
@@ -246,7 +262,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     let rows: Vec<Vec<f64>> = (0..cm.len())
-        .map(|t| vec![t as f64 * ev, cm[t], ce[t], em[t], ee[t]])
+        .map(|t| vec![tf[t], cm[t], ce[t], em[t], ee[t]])
         .collect();
     out.write_csv(
         "fig3.csv",
@@ -259,17 +275,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ],
         &rows,
     )?;
-    let t: Vec<f64> = (0..cm.len()).map(|i| i as f64 * ev).collect();
+    let t = &tf;
     let pts = |v: &[f64], d: &[f64], s: f64| {
         t.iter()
             .zip(v.iter().zip(d))
             .map(|(&t, (&a, &b))| (t, a + s * b))
             .collect::<Vec<_>>()
     };
-    let title_tail = format!(
-        "L = 256, W = 11, rho = 1, p = {}, g = b = 0.5, bins of 8 rows, {runs} runs, rules {rules}",
-        params.p
-    );
+    let title_tail = format!("L = 256, p = {}, bin 8, {runs} runs, {rules}", params.p);
     line_chart(
         &out.path("fig3a.png"),
         &format!("PH95 Fig. 3a: contrast C(t), {title_tail}"),
@@ -350,7 +363,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         paper: "PH95 Fig. 3".into(),
         tier,
         seeds,
-        params: json!({"L": params.length, "W": params.width, "rho": params.rho, "p": params.p, "g": params.g, "b": params.b, "bin": params.bin, "steps": steps, "every": every, "runs": runs}),
+        params: json!({"L": params.length, "W": params.width, "rho": params.rho, "p": params.p, "g": params.g, "b": params.b, "bin": params.bin, "steps": steps, "every": every, "every_step_until": EARLY, "runs": runs}),
         rules: rules.to_string(),
         wall_seconds: wall,
         site_updates: (runs as u64 * steps * params.sites() as u64) as f64,
