@@ -152,6 +152,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|m| mean_sem(&results.iter().map(|r| r.shift_rows[m]).collect::<Vec<_>>()))
         .unzip();
     let fit = linear_fit(&tau, &sm)?;
+    // the same curve over the runs with bands only (s_low > WAVE_RUN)
+    let wave_curve: Vec<f64> = (0..lags)
+        .map(|m| {
+            let v: Vec<f64> = results
+                .iter()
+                .filter(|r| r.s_low > WAVE_RUN)
+                .map(|r| r.shift_rows[m])
+                .collect();
+            mean_sem(&v).0
+        })
+        .collect();
     let mean_spec = average_spectra(
         &results
             .iter()
@@ -205,9 +216,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     out.write_csv(
         "fig5.csv",
-        &["tau", "shift_rows_mean", "shift_rows_sem"],
+        &[
+            "tau",
+            "shift_rows_mean",
+            "shift_rows_sem",
+            "shift_rows_mean_wave_runs",
+        ],
         &(0..lags)
-            .map(|m| vec![tau[m], sm[m], se[m]])
+            .map(|m| vec![tau[m], sm[m], se[m], wave_curve[m]])
             .collect::<Vec<_>>(),
     )?;
     out.write_csv(
@@ -254,6 +270,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 ],
                 PALETTE[1],
             ),
+            Line::new(
+                &format!("runs with bands (s_low > {WAVE_RUN})"),
+                (0..lags).map(|m| (tau[m], wave_curve[m])).collect(),
+                PALETTE[3],
+            )
+            .markers(),
         ],
         false,
     )?;
