@@ -213,6 +213,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut width_pts = Vec::new();
     let mut asym_pts = Vec::new();
     let mut excess = Vec::new();
+    let mut shape_rows = Vec::new();
     let mut asym = Vec::new();
     for (k, (params, res)) in per_l.iter().enumerate() {
         let l = params.length;
@@ -239,6 +240,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             metrics.insert(format!("{name}_L{l}"), m);
             metrics.insert(format!("{name}_L{l}_err"), e);
         }
+        shape_rows.push(vec![
+            l as f64, a.0, a.1, ex.0, ex.1, w.0, w.1, fr.0, fr.1, bk.0, bk.1, asy.0, asy.1,
+        ]);
         excess.push((l, ex));
         asym.push((l, asy));
         amp_pts.push((l as f64, a.0));
