@@ -3,12 +3,15 @@
 //! 8 runs (about 10 s).
 //!
 //! Statistic: the amplitude of the aligned profile minus that of white-noise
-//! fields aligned the same way (the alignment bias), mean +- SE over the 8
-//! runs. A wave: excess - 2 SE > 0; flat: |excess| <= 2 SE (2 SE: about 5%
-//! false alarms for a normal statistic; the seeds are fixed, so the test is
-//! deterministic). Default reading at p = 0.1: a wave with a steep
-//! downstream front (asymmetry - 2 SE > 0), not flat. Wave-free reading
-//! p = 0: flat, no wave (so each check fails for the wrong model).
+//! fields of the same variance aligned the same way (the alignment bias
+//! "null"), mean +- SE over the 8 runs. A wave: excess - 2 SE > null (the
+//! amplitude is more than twice the bias); flat: excess + 2 SE < null (2 SE:
+//! about 2.5% false alarms per side for a normal statistic; the seeds are
+//! fixed, so the test is deterministic). Default reading at p = 0.1: a wave
+//! with a steep downstream front (asymmetry - 2 SE > 0), not flat.
+//! Wave-free readings: p = 0 is flat and has no wave; `any-mover` (no bands,
+//! correlated fluctuations) has no wave. So each check fails for a wrong
+//! model.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -65,4 +68,8 @@ fn fig4_quick_wave_profile_and_flat_p0() {
     let w = run("p0", &["--p", "0"]);
     assert!(pass(&w, "flat_profile_L1024"), "{}", w["metrics"]);
     assert!(!pass(&w, "wave_profile_L1024"), "{}", w["metrics"]);
+    // a wave-free reading whose steady state has correlated fluctuations
+    // (the literal PH95 gravity wording, MODEL.md A11): no wave either
+    let a = run("any-mover", &["--rules", "any-mover"]);
+    assert!(!pass(&a, "wave_profile_L1024"), "{}", a["metrics"]);
 }
