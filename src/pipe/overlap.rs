@@ -1,4 +1,4 @@
-//! Maximal overlap of density fields (MODEL.md A9; [PH95] sections B and C,
+//! Maximal overlap of density fields (MODEL.md A9; \[PH95\] sections B and C,
 //! Figs. 4 and 5): the shift along the periodic pipe that makes two bin
 //! profiles overlap most, the hierarchical alignment and averaging of many
 //! fields into one wave profile, and the real-space wave speed from the
