@@ -1,6 +1,7 @@
 //! Command-line options shared by every figure binary (the output contract
 //! of DEVELOPERS.md): `--tier`, `--seed`, `--runs`, `--rules`, `--out`.
 
+use crate::ensemble::{Ensemble, Shard};
 use crate::pipe::rules::RULE_NAMES;
 use crate::pipe::Rules;
 use crate::run::Tier;
@@ -21,6 +22,14 @@ pub struct Common {
     /// Output folder; the figure writes into OUT/<binary>/.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
+    /// Run only shard i of n (runs r with r mod n = i, 0 <= i < n), e.g.
+    /// `--shard $SLURM_ARRAY_TASK_ID/8`; combine the shards' --out folders
+    /// with the `merge` binary, then rerun without --shard to analyse.
+    #[arg(long)]
+    pub shard: Option<Shard>,
+    /// Worker threads (default: all cores); results do not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 /// The `--rules` option of the pipe figures.
@@ -51,5 +60,23 @@ impl Common {
         self.runs
             .unwrap_or(self.tier.pick(quick, standard, paper))
             .max(1)
+    }
+
+    /// The ensemble runner of a figure (`crate::ensemble`): `runs` runs of the
+    /// configuration `key` (tier, parameters, rules: everything that changes a
+    /// run's result) with `--seed`, `--shard` and `--threads` applied, saving
+    /// each run under `OUT/<binary>/runs/`.
+    pub fn ensemble(
+        &self,
+        binary: &str,
+        key: &serde_json::Value,
+        runs: usize,
+    ) -> crate::Result<Ensemble> {
+        let key = serde_json::json!({"tier": self.tier, "config": key});
+        let e = Ensemble::new(&self.out, binary, &key, self.seed, runs, self.shard)?;
+        Ok(match self.threads {
+            Some(n) => e.threads(n),
+            None => e,
+        })
     }
 }

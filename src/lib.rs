@@ -14,6 +14,7 @@
 
 pub mod analysis;
 pub mod cli;
+pub mod ensemble;
 pub mod error;
 pub mod hopper;
 pub mod lattice;

@@ -1,0 +1,471 @@
+//! The ensemble runner shared by the figure binaries (issue 6): N independent
+//! runs with seeds derived from a base seed and the run index
+//! ([`derive_seed`]), spread over threads, each finished run saved at once so
+//! an interrupted figure resumes where it stopped, and sharding (`--shard i/n`)
+//! with a [`merge`] step so a sweep can be spread over machines.
+//!
+//! Layout: `DIR/<binary>/runs/<key-hash>/run-00012.json`, one file per run,
+//! holding the configuration key, the run index, its seed and its result. The
+//! key is the figure's configuration (tier, parameters, rules, base seed, as
+//! JSON) without the number of runs, so asking for more runs reuses the
+//! finished ones, and a run with other parameters never mixes with them. Its
+//! 64-bit FNV-1a hash names the folder, and `config.json` inside holds the key
+//! in full.
+//!
+//! Determinism: each run is a pure function of (configuration, index), so the
+//! results are identical for any thread count and any shard split; floats
+//! are written in the shortest form that reads back to the same bits
+//! (serde_json `float_roundtrip`), so a resumed ensemble gives byte-identical
+//! results.
+//!
+//! ```
+//! use granular_automata::ensemble::{Ensemble, Outcome};
+//! let dir = std::env::temp_dir().join(format!("ga-doc-ensemble-{}", std::process::id()));
+//! let key = serde_json::json!({"figure": "doc", "rho": 1.0});
+//! let ens = Ensemble::new(&dir, "doc", &key, 7, 5, None).unwrap().threads(2).quiet();
+//! let out = ens.run(1, |_index, seed, _tick| Ok(seed % 100)).unwrap();
+//! match out {
+//!     Outcome::Complete(v) => assert_eq!(v.len(), 5),
+//!     Outcome::ShardDone { .. } => unreachable!(),
+//! }
+//! std::fs::remove_dir_all(&dir).unwrap();
+//! ```
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::run::{derive_seed, progress, threads as all_threads, write_atomic};
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// One shard of an ensemble: `--shard i/n` runs only the runs r with
+/// r mod n = i (0 <= i < n), so n machines or array tasks share the work.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// This shard's index i, in 0..count.
+    pub index: usize,
+    /// Number of shards n, at least 1.
+    pub count: usize,
+}
+
+impl Shard {
+    /// Whether run `r` belongs to this shard.
+    pub fn owns(&self, r: usize) -> bool {
+        r % self.count == self.index
+    }
+}
+
+impl fmt::Display for Shard {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+impl FromStr for Shard {
+    type Err = Error;
+
+    /// Parse `i/n` with 0 <= i < n (e.g. `$SLURM_ARRAY_TASK_ID/8`).
+    fn from_str(s: &str) -> Result<Self> {
+        let bad = || {
+            Error::new(
+                ErrorKind::InvalidParameter,
+                format!(
+                    "--shard {s:?} is not of the form i/n with 0 <= i < n (e.g. 0/4 .. 3/4); \
+                     write the shard index, a slash and the number of shards"
+                ),
+            )
+        };
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let index: usize = i.trim().parse().map_err(|_| bad())?;
+        let count: usize = n.trim().parse().map_err(|_| bad())?;
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+/// 64-bit FNV-1a hash (stable across platforms and versions), used to name
+/// the folder of a configuration.
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// What [`Ensemble::run`] returns.
+#[derive(Debug)]
+pub enum Outcome<T> {
+    /// All runs are done; results in run order.
+    Complete(Vec<T>),
+    /// A shard finished its runs; the figure is analysed after [`merge`].
+    ShardDone {
+        /// The shard.
+        shard: Shard,
+        /// Runs of this shard (computed now or found finished).
+        runs: usize,
+        /// The folder holding the run files.
+        dir: PathBuf,
+    },
+}
+
+#[derive(Serialize, Deserialize)]
+struct RunFile<T> {
+    key: serde_json::Value,
+    index: usize,
+    seed: u64,
+    result: T,
+}
+
+/// An ensemble of independent runs of one figure configuration, with resume
+/// from per-run files and sharding (module docs).
+#[derive(Debug, Clone)]
+pub struct Ensemble {
+    dir: PathBuf,
+    key: serde_json::Value,
+    base_seed: u64,
+    runs: usize,
+    shard: Option<Shard>,
+    threads: usize,
+    show_progress: bool,
+}
+
+impl Ensemble {
+    /// An ensemble of `runs` runs of the configuration `key` (a JSON value
+    /// describing everything but the number of runs) with base seed
+    /// `base_seed`, saving into `out/<binary>/runs/<hash>/`. Creates the
+    /// folder and its `config.json`; errors if the folder cannot be written.
+    pub fn new(
+        out: &Path,
+        binary: &str,
+        key: &serde_json::Value,
+        base_seed: u64,
+        runs: usize,
+        shard: Option<Shard>,
+    ) -> Result<Self> {
+        if runs == 0 {
+            return Err(Error::out_of_range("--runs", 0, "[1, inf)"));
+        }
+        let key = serde_json::json!({"binary": binary, "base_seed": base_seed, "config": key});
+        let text = serde_json::to_string(&key)
+            .map_err(|e| Error::new(ErrorKind::Io, format!("cannot serialise key: {e}")))?;
+        let dir = out
+            .join(binary)
+            .join("runs")
+            .join(format!("{:016x}", fnv1a64(text.as_bytes())));
+        fs::create_dir_all(&dir).map_err(|e| {
+            Error::new(
+                ErrorKind::Io,
+                format!(
+                    "cannot create {}: {e}; choose a writable --out",
+                    dir.display()
+                ),
+            )
+        })?;
+        let config = dir.join("config.json");
+        if config.exists() {
+            let old = fs::read_to_string(&config)?;
+            if old != text {
+                return Err(Error::new(
+                    ErrorKind::Io,
+                    format!(
+                        "{} holds another configuration (hash collision or edited file); \
+                         remove that folder or choose another --out",
+                        config.display()
+                    ),
+                ));
+            }
+        } else {
+            write_atomic(&config, text.as_bytes())?;
+        }
+        Ok(Ensemble {
+            dir,
+            key,
+            base_seed,
+            runs,
+            shard,
+            threads: all_threads(),
+            show_progress: true,
+        })
+    }
+
+    /// Use `n` worker threads (default: all cores). Results do not depend on it.
+    pub fn threads(mut self, n: usize) -> Self {
+        self.threads = n.max(1);
+        self
+    }
+
+    /// No progress bar (for tests and doctests).
+    pub fn quiet(mut self) -> Self {
+        self.show_progress = false;
+        self
+    }
+
+    /// The folder holding this configuration's run files.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Number of runs N.
+    pub fn runs(&self) -> usize {
+        self.runs
+    }
+
+    /// The seed of run `index`: [`derive_seed`](base seed, index).
+    pub fn seed(&self, index: usize) -> u64 {
+        derive_seed(self.base_seed, index as u64)
+    }
+
+    /// The seeds of all N runs, in run order.
+    pub fn seeds(&self) -> Vec<u64> {
+        (0..self.runs).map(|i| self.seed(i)).collect()
+    }
+
+    /// Path of the file of run `index`.
+    pub fn run_path(&self, index: usize) -> PathBuf {
+        self.dir.join(format!("run-{index:05}.json"))
+    }
+
+    /// Indices of the runs whose files exist.
+    pub fn finished(&self) -> Vec<usize> {
+        (0..self.runs)
+            .filter(|&i| self.run_path(i).exists())
+            .collect()
+    }
+
+    fn load<T: DeserializeOwned>(&self, index: usize) -> Result<T> {
+        let path = self.run_path(index);
+        let text = fs::read_to_string(&path)?;
+        let file: RunFile<T> = serde_json::from_str(&text).map_err(|e| {
+            Error::new(
+                ErrorKind::Io,
+                format!(
+                    "{} is not a run file of this figure ({e}); delete it to recompute that run",
+                    path.display()
+                ),
+            )
+        })?;
+        if file.index != index || file.seed != self.seed(index) || file.key != self.key {
+            return Err(Error::new(
+                ErrorKind::Io,
+                format!(
+                    "{} belongs to another run (index {}, seed {}); delete it to recompute run {index}",
+                    path.display(),
+                    file.index,
+                    file.seed
+                ),
+            ));
+        }
+        Ok(file.result)
+    }
+
+    fn save<T: Serialize>(&self, index: usize, result: &T) -> Result<()> {
+        let file = RunFile {
+            key: self.key.clone(),
+            index,
+            seed: self.seed(index),
+            result,
+        };
+        let text = serde_json::to_string(&file)
+            .map_err(|e| Error::new(ErrorKind::Io, format!("cannot serialise run {index}: {e}")))?;
+        write_atomic(&self.run_path(index), text.as_bytes())
+    }
+
+    /// Compute every run (of this shard) whose file is missing, saving each
+    /// one as soon as it finishes, and return all results in run order, or
+    /// [`Outcome::ShardDone`] when sharded.
+    ///
+    /// `f(index, seed, tick)` computes one run; it must be a pure function of
+    /// (index, seed) and may call `tick(steps)` to advance the progress bar,
+    /// whose length is `steps_per_run` per run. The first error stops the
+    /// workers from starting new runs; runs finished so far stay saved.
+    pub fn run<T, F>(&self, steps_per_run: u64, f: F) -> Result<Outcome<T>>
+    where
+        T: Serialize + DeserializeOwned + Send,
+        F: Fn(usize, u64, &(dyn Fn(u64) + Sync)) -> Result<T> + Sync,
+    {
+        let mine: Vec<usize> = (0..self.runs)
+            .filter(|&r| self.shard.is_none_or(|s| s.owns(r)))
+            .collect();
+        let todo: Vec<usize> = mine
+            .iter()
+            .copied()
+            .filter(|&r| !self.run_path(r).exists())
+            .collect();
+        let pb = progress(todo.len() as u64 * steps_per_run, "runs");
+        if !self.show_progress {
+            pb.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+        }
+        pb.set_message(format!("{}/{} runs", mine.len() - todo.len(), mine.len()));
+        let done = AtomicUsize::new(mine.len() - todo.len());
+        let next = AtomicUsize::new(0);
+        let stop = AtomicBool::new(false);
+        let first_error: Mutex<Option<Error>> = Mutex::new(None);
+        let tick = |n: u64| pb.inc(n);
+        std::thread::scope(|s| {
+            for _ in 0..self.threads.min(todo.len().max(1)) {
+                s.spawn(|| loop {
+                    if stop.load(Ordering::SeqCst) {
+                        break;
+                    }
+                    let k = next.fetch_add(1, Ordering::SeqCst);
+                    if k >= todo.len() {
+                        break;
+                    }
+                    let r = todo[k];
+                    let res = f(r, self.seed(r), &tick).and_then(|v| self.save(r, &v));
+                    match res {
+                        Ok(()) => {
+                            let d = done.fetch_add(1, Ordering::SeqCst) + 1;
+                            pb.set_message(format!("{d}/{} runs", mine.len()));
+                        }
+                        Err(e) => {
+                            stop.store(true, Ordering::SeqCst);
+                            let mut slot = first_error.lock().expect("no poisoned lock");
+                            if slot.is_none() {
+                                *slot = Some(e);
+                            }
+                            break;
+                        }
+                    }
+                });
+            }
+        });
+        pb.finish_and_clear();
+        if let Some(e) = first_error.into_inner().expect("no poisoned lock") {
+            return Err(e);
+        }
+        if let Some(shard) = self.shard {
+            return Ok(Outcome::ShardDone {
+                shard,
+                runs: mine.len(),
+                dir: self.dir.clone(),
+            });
+        }
+        let results = (0..self.runs)
+            .map(|r| self.load(r))
+            .collect::<Result<Vec<T>>>()?;
+        Ok(Outcome::Complete(results))
+    }
+}
+
+/// What [`merge`] did.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct MergeReport {
+    /// Run files copied into the target (`config.json` files not counted).
+    pub copied: usize,
+    /// Run files already present in the target with identical contents
+    /// (`config.json` files not counted).
+    pub identical: usize,
+}
+
+fn read_dir_sorted(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut v: Vec<PathBuf> = fs::read_dir(dir)
+        .map_err(|e| Error::new(ErrorKind::Io, format!("cannot read {}: {e}", dir.display())))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
+/// Merge shard output folders: copy every `<binary>/runs/<hash>/` file of
+/// each folder in `from` into `into` (same layout). A file present on both
+/// sides must be byte-identical (runs are pure functions of their seed), else
+/// a typed error names it. After the merge, running the figure without
+/// `--shard` on `into` finds every run finished and only analyses.
+pub fn merge(into: &Path, from: &[PathBuf]) -> Result<MergeReport> {
+    let mut report = MergeReport::default();
+    for src in from {
+        if !src.is_dir() {
+            return Err(Error::new(
+                ErrorKind::Io,
+                format!(
+                    "shard folder {} does not exist; pass the --out folders of the shards",
+                    src.display()
+                ),
+            ));
+        }
+        for bin_dir in read_dir_sorted(src)? {
+            let runs = bin_dir.join("runs");
+            if !runs.is_dir() {
+                continue;
+            }
+            let binary = bin_dir.file_name().expect("a folder name").to_owned();
+            for cfg in read_dir_sorted(&runs)? {
+                if !cfg.is_dir() {
+                    continue;
+                }
+                let target = into
+                    .join(&binary)
+                    .join("runs")
+                    .join(cfg.file_name().expect("a folder name"));
+                fs::create_dir_all(&target)?;
+                for file in read_dir_sorted(&cfg)? {
+                    let name = file.file_name().expect("a file name");
+                    if !name.to_string_lossy().ends_with(".json") {
+                        continue; // temporary files of an interrupted write
+                    }
+                    let is_run = name.to_string_lossy().starts_with("run-");
+                    let bytes = fs::read(&file)?;
+                    let dest = target.join(name);
+                    if dest.exists() {
+                        if fs::read(&dest)? != bytes {
+                            return Err(Error::new(
+                                ErrorKind::Io,
+                                format!(
+                                    "{} and {} differ although they hold the same run; \
+                                     the shards were run with different code or parameters",
+                                    file.display(),
+                                    dest.display()
+                                ),
+                            ));
+                        }
+                        if is_run {
+                            report.identical += 1;
+                        }
+                    } else {
+                        write_atomic(&dest, &bytes)?;
+                        if is_run {
+                            report.copied += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shard_parses_and_rejects_bad_input() {
+        assert_eq!(
+            "2/4".parse::<Shard>().unwrap(),
+            Shard { index: 2, count: 4 }
+        );
+        for bad in ["4/4", "1/0", "x/2", "3", "-1/2"] {
+            let e = bad.parse::<Shard>().unwrap_err();
+            assert_eq!(e.kind, ErrorKind::InvalidParameter);
+            assert!(e.message.contains(bad), "{}", e.message);
+        }
+        let s = Shard { index: 1, count: 3 };
+        let owned: Vec<usize> = (0..8).filter(|&r| s.owns(r)).collect();
+        assert_eq!(owned, vec![1, 4, 7]);
+    }
+
+    #[test]
+    fn fnv_known_values() {
+        assert_eq!(fnv1a64(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63_dc4c_8601_ec8c);
+    }
+}

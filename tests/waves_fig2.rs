@@ -1,0 +1,56 @@
+//! Acceptance test of PH95 Fig. 2 (issue 6): the `waves-fig2` binary at the
+//! quick tier (the paper's L = 2200 and 40000 steps, 2 runs, seed 1).
+//!
+//! Waves: s_low - 2 SE > 2 over the late half (the fig1 statistic, an
+//! uncorrelated gas gives 1). It must fail for a wave-free model (p = 0,
+//! PH94 Fig. 1b). The pattern's real-space speed is a smoke check: downward
+//! between 0.15 and 0.35 rows per step (the independent prototype of
+//! MODEL.md A11 measured ~0.25 for this reading; the band is a loose smoke
+//! tolerance, the precise value is waves-fig5's job).
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("waves-fig2-{tag}"));
+    let _ = std::fs::remove_dir_all(&out);
+    let status = Command::new(env!("CARGO_BIN_EXE_waves-fig2"))
+        .args(["--tier", "quick", "--seed", "1"])
+        .args(extra)
+        .arg("--out")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    for f in [
+        "fig2a.png",
+        "fig2b.png",
+        "fig2b_spacetime_run0.csv",
+        "fig2a_snapshots_run0.csv",
+    ] {
+        assert!(out.join("waves-fig2").join(f).exists(), "{f}");
+    }
+    serde_json::from_str(&std::fs::read_to_string(out.join("waves-fig2/summary.json")).unwrap())
+        .unwrap()
+}
+
+fn pass(s: &serde_json::Value, name: &str) -> bool {
+    s["checks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == name)
+        .unwrap_or_else(|| panic!("check {name}"))["pass"]
+        .as_bool()
+        .unwrap()
+}
+
+#[test]
+fn fig2_quick_waves_form_and_p0_has_none() {
+    let s = run("default", &[]);
+    assert!(pass(&s, "waves_form"), "{}", s["metrics"]);
+    let v = s["metrics"]["speed_real_space"].as_f64().unwrap();
+    assert!((-0.35..-0.15).contains(&v), "speed {v}");
+    let w = run("p0", &["--p", "0"]);
+    assert!(!pass(&w, "waves_form"), "p = 0: {}", w["metrics"]);
+}
