@@ -33,6 +33,7 @@ const PANELS: [&str; 4] = ["a", "b", "c", "d"];
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
+    args.common.reject_shard("fig1")?;
     let tier = args.common.tier;
     let rules = args.rules.parse()?;
     // Bands need the full length and duration (shorter pipes or runs do not form

@@ -51,6 +51,7 @@ fn site_updates(size: MatrixSize) -> f64 {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
+    args.common.reject_shard("pipe-matrix")?;
     let tier = args.common.tier;
     let mut size = MatrixSize::for_tier(tier);
     if let Some(r) = args.common.runs {

@@ -8,11 +8,11 @@
 use clap::Parser;
 use granular_automata::cli::{Common, PipeRules};
 use granular_automata::pipe::spectra::{
-    spectrum_ensemble, spectrum_lines, spectrum_rows, tier_setup, tolerance, DISCREPANCY,
+    resumable_ensemble, spectrum_lines, spectrum_rows, tier_setup, tolerance, DISCREPANCY,
 };
 use granular_automata::pipe::Params;
 use granular_automata::plot::line_chart_at;
-use granular_automata::run::{derive_seed, mark_discrepancies, progress, Check, Output, Summary};
+use granular_automata::run::{derive_seed, mark_discrepancies, Check, Output, Summary};
 use plotters::chart::SeriesLabelPosition;
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -66,11 +66,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let start = Instant::now();
     let setup0 = tier_setup(args.common.tier, base, rules);
-    let pb = progress(2 * runs as u64 * setup0.steps(), "waves-fig7 steps");
     let mut ens = Vec::new();
     for (name, params) in cases {
         let setup = tier_setup(args.common.tier, params, rules);
-        let e = spectrum_ensemble(&setup, &seeds, &|n| pb.inc(n))?;
+        let Some(e) = resumable_ensemble(&args.common, "waves-fig7", name, &setup, runs)? else {
+            continue; // a shard: nothing to analyse
+        };
         out.write_csv(
             &format!("spectrum_{name}.csv"),
             &["j", "frequency", "P"],
@@ -78,7 +79,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )?;
         ens.push(e);
     }
-    pb.finish();
+    if ens.len() < cases.len() {
+        return Ok(());
+    }
     let wall = start.elapsed().as_secs_f64();
 
     let mut lines = spectrum_lines(&ens[0], "p = 0, b = 0.5", 0);

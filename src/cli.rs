@@ -55,6 +55,18 @@ impl PipeRules {
 }
 
 impl Common {
+    /// For figures that keep all their runs in one process: a `--shard` is
+    /// an error (never silently ignored).
+    pub fn reject_shard(&self, binary: &str) -> crate::Result<()> {
+        match self.shard {
+            Some(s) => Err(crate::Error::new(
+                crate::ErrorKind::InvalidParameter,
+                format!("{binary} does not support --shard (got {s}); run it without --shard"),
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// `--runs` if given, else the tier's default; at least 1.
     pub fn runs_or(&self, quick: usize, standard: usize, paper: usize) -> usize {
         self.runs

@@ -22,7 +22,9 @@ pub enum ErrorKind {
 }
 
 /// A failure with a message that names the value, the allowed range and the fix.
-#[derive(Debug, Clone, PartialEq)]
+/// (`Debug` prints the kind and the message, so `main` returning this error
+/// shows a readable line.)
+#[derive(Clone, PartialEq)]
 pub struct Error {
     /// What kind of failure this is.
     pub kind: ErrorKind,
@@ -51,6 +53,12 @@ impl Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.message)
+    }
+}
+
+impl fmt::Debug for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:?}: {}", self.kind, self.message)
     }
 }
 

@@ -16,6 +16,8 @@ use std::process::Command;
 
 fn run(bin: &str, exe: &str, args: &[&str], tag: &str) -> serde_json::Value {
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("spectra-{tag}"));
+    // saved runs of an earlier build must not stand in for this one
+    let _ = std::fs::remove_dir_all(&out);
     let status = Command::new(exe)
         .args(args)
         .arg("--out")

@@ -10,7 +10,7 @@ use crate::error::Result;
 use crate::plot::{line_chart_at, Line, PALETTE};
 use crate::run::{ensemble, mean_sem};
 use plotters::chart::SeriesLabelPosition;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// What to record and how to estimate the spectrum.
@@ -54,7 +54,7 @@ impl SpectrumSetup {
 }
 
 /// One run's spectrum and its fit.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SpectrumRun {
     /// Seed of the run.
     pub seed: u64,
@@ -129,14 +129,42 @@ pub struct SpectrumEnsemble {
 }
 
 /// Run `seeds.len()` independent runs on all cores and combine them.
-pub fn spectrum_ensemble(
-    setup: &SpectrumSetup,
-    seeds: &[u64],
-    tick: &(dyn Fn(u64) + Sync),
-) -> Result<SpectrumEnsemble> {
+pub fn spectrum_ensemble(setup: &SpectrumSetup, seeds: &[u64], tick: &(dyn Fn(u64) + Sync)) -> Result<SpectrumEnsemble> {
     let runs: Vec<SpectrumRun> = ensemble(seeds.len(), |i| bin_spectrum(setup, seeds[i], tick))
         .into_iter()
         .collect::<Result<_>>()?;
+    combine(setup, runs)
+}
+
+/// The spectra of `runs` runs through the figure's ensemble runner
+/// (`crate::ensemble`: each finished run saved under `OUT/<binary>/runs/`,
+/// resumed when rerun, `--shard` honoured). `None` when only a shard was
+/// computed (the caller reports it and stops); `name` tells set-ups of one
+/// binary apart.
+pub fn resumable_ensemble(
+    common: &crate::cli::Common,
+    binary: &str,
+    name: &str,
+    setup: &SpectrumSetup,
+    runs: usize,
+) -> Result<Option<SpectrumEnsemble>> {
+    use crate::ensemble::Outcome;
+    let key = serde_json::json!({"set-up": name, "spectrum": setup});
+    let ens = common.ensemble(binary, &key, runs)?;
+    match ens.run(setup.steps(), |_, seed, tick| bin_spectrum(setup, seed, tick))? {
+        Outcome::Complete(v) => combine(setup, v).map(Some),
+        Outcome::ShardDone { shard, runs, dir } => {
+            println!(
+                "{binary} {name}: shard {shard} done, {runs} runs in {}; merge the shard folders with the `merge` binary, then rerun without --shard",
+                dir.display()
+            );
+            Ok(None)
+        }
+    }
+}
+
+/// Combine finished runs into an ensemble (averaged spectrum, spreads).
+pub fn combine(setup: &SpectrumSetup, runs: Vec<SpectrumRun>) -> Result<SpectrumEnsemble> {
     let spectra: Vec<Vec<f64>> = runs.iter().map(|r| r.spectrum.clone()).collect();
     let mean_spectrum = average_spectra(&spectra)?;
     let fit_of_mean = estimate_alpha(&mean_spectrum)?;
@@ -304,28 +332,26 @@ pub struct SpectrumFigure<'a> {
     pub note: &'a str,
 }
 
-/// Run an ensemble of spectra for `fig` at the options `common` and `rules`,
-/// write `spectrum.csv`, `runs.csv`, the PNG and `summary.json` (metrics
+/// Run an ensemble of spectra for `fig` at the options `common` and `rules`
+/// (resumable and shardable, see [`resumable_ensemble`]; `None` after a
+/// shard), write `spectrum.csv`, `runs.csv`, the PNG and `summary.json` (metrics
 /// `alpha`, `alpha_err`, `j_peak`, `v_peak`), and print the checks.
 pub fn run_figure(
     fig: &SpectrumFigure,
     common: &crate::cli::Common,
     rules: Rules,
-) -> Result<crate::run::Summary> {
-    use crate::run::{derive_seed, progress, Check, Output, Summary};
+) -> Result<Option<crate::run::Summary>> {
+    use crate::run::{derive_seed, Check, Output, Summary};
     let setup = tier_setup(common.tier, fig.params, rules);
     let runs = common.runs_or(4, 8, 8);
     let seeds: Vec<u64> = (0..runs as u64)
         .map(|i| derive_seed(common.seed, i))
         .collect();
-    let out = Output::new(&common.out, fig.binary)?;
     let start = std::time::Instant::now();
-    let pb = progress(
-        runs as u64 * setup.steps(),
-        &format!("{} steps", fig.binary),
-    );
-    let ens = spectrum_ensemble(&setup, &seeds, &|n| pb.inc(n))?;
-    pb.finish();
+    let Some(ens) = resumable_ensemble(common, fig.binary, "spectrum", &setup, runs)? else {
+        return Ok(None);
+    };
+    let out = Output::new(&common.out, fig.binary)?;
     let wall = start.elapsed().as_secs_f64();
 
     out.write_csv(
@@ -402,5 +428,5 @@ pub fn run_figure(
         checks,
     };
     out.finish(&summary)?;
-    Ok(summary)
+    Ok(Some(summary))
 }
