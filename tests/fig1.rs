@@ -10,40 +10,20 @@
 //! a wrong model: the literal [PH95] gravity wording (`any-mover`), under which
 //! the gas collapses into free fall and forms no bands (MODEL.md A11).
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
+use common::{pass as check, run_figure};
 
 fn run_fig1(rules: &str, tag: &str) -> serde_json::Value {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("fig1-{tag}"));
-    let status = Command::new(env!("CARGO_BIN_EXE_fig1"))
-        .args(["--tier", "quick", "--seed", "1", "--rules", rules, "--out"])
-        .arg(&out)
-        .status()
-        .expect("fig1 runs");
-    assert!(status.success());
-    for png in [
+    let files = [
         "fig1.png",
         "fig1_a.png",
         "fig1_b.png",
         "fig1_c.png",
         "fig1_d.png",
         "bins_a.csv",
-    ] {
-        assert!(out.join("fig1").join(png).exists(), "{png} written");
-    }
-    let text = std::fs::read_to_string(out.join("fig1/summary.json")).unwrap();
-    serde_json::from_str(&text).unwrap()
-}
-
-fn check(summary: &serde_json::Value, name: &str) -> bool {
-    summary["checks"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap_or_else(|| panic!("check {name} present"))["pass"]
-        .as_bool()
-        .unwrap()
+    ];
+    let args = ["--tier", "quick", "--seed", "1", "--rules", rules];
+    run_figure("fig1", env!("CARGO_BIN_EXE_fig1"), &args, tag, &files)
 }
 
 #[test]

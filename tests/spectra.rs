@@ -11,40 +11,11 @@
 //! deterministic). Each claim is shown to fail for a reading that does not
 //! reproduce it.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
+use common::{metric, pass as check};
 
 fn run(bin: &str, exe: &str, args: &[&str], tag: &str) -> serde_json::Value {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("spectra-{tag}"));
-    // saved runs of an earlier build must not stand in for this one
-    let _ = std::fs::remove_dir_all(&out);
-    let status = Command::new(exe)
-        .args(args)
-        .arg("--out")
-        .arg(&out)
-        .status()
-        .expect("binary runs");
-    assert!(status.success(), "{bin} {args:?} failed");
-    assert!(out.join(bin).join(format!("{bin}.png")).exists());
-    let text = std::fs::read_to_string(out.join(bin).join("summary.json")).unwrap();
-    serde_json::from_str(&text).unwrap()
-}
-
-fn check(s: &serde_json::Value, name: &str) -> bool {
-    s["checks"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap()["pass"]
-        .as_bool()
-        .unwrap()
-}
-
-fn metric(s: &serde_json::Value, name: &str) -> f64 {
-    s["metrics"][name]
-        .as_f64()
-        .unwrap_or_else(|| panic!("metric {name}"))
+    common::run_figure(bin, exe, args, tag, &[&format!("{bin}.png")])
 }
 
 const PAPER4: [&str; 6] = ["--tier", "paper", "--runs", "4", "--seed", "1"];

@@ -8,41 +8,25 @@
 //! MODEL.md A11 measured ~0.25 for this reading; the band is a loose smoke
 //! tolerance, the precise value is waves-fig5's job).
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
+use common::pass;
 
 fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("waves-fig2-{tag}"));
-    let _ = std::fs::remove_dir_all(&out);
-    let status = Command::new(env!("CARGO_BIN_EXE_waves-fig2"))
-        .args(["--tier", "quick", "--seed", "1"])
-        .args(extra)
-        .arg("--out")
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(status.success());
-    for f in [
+    let mut args = vec!["--tier", "quick", "--seed", "1"];
+    args.extend_from_slice(extra);
+    let files = [
         "fig2a.png",
         "fig2b.png",
         "fig2b_spacetime_run0.csv",
         "fig2a_snapshots_run0.csv",
-    ] {
-        assert!(out.join("waves-fig2").join(f).exists(), "{f}");
-    }
-    serde_json::from_str(&std::fs::read_to_string(out.join("waves-fig2/summary.json")).unwrap())
-        .unwrap()
-}
-
-fn pass(s: &serde_json::Value, name: &str) -> bool {
-    s["checks"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap_or_else(|| panic!("check {name}"))["pass"]
-        .as_bool()
-        .unwrap()
+    ];
+    common::run_figure(
+        "waves-fig2",
+        env!("CARGO_BIN_EXE_waves-fig2"),
+        &args,
+        tag,
+        &files,
+    )
 }
 
 #[test]

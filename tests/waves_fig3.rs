@@ -3,8 +3,25 @@
 //! the quick tier shortened to 4000 steps and 16 runs (about a second).
 
 use granular_automata::pipe::{Params, Pipe, Rules};
-use std::path::PathBuf;
-use std::process::Command;
+
+mod common;
+use common::metric;
+use common::pass;
+
+fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "--tier", "quick", "--seed", "1", "--runs", "16", "--steps", "4000",
+    ];
+    args.extend_from_slice(extra);
+    let files = ["fig3a.png", "fig3b.png", "fig3.csv"];
+    common::run_figure(
+        "waves-fig3",
+        env!("CARGO_BIN_EXE_waves-fig3"),
+        &args,
+        tag,
+        &files,
+    )
+}
 
 /// Base seed of every run in this file.
 const SEED: u64 = 3;
@@ -61,41 +78,6 @@ fn energy_identity_fails_for_a_start_with_rest_particles() {
         pipe.set_site(5, y, s | 1);
     }
     assert!(identity_error(&mut pipe, 200) > 0);
-}
-
-fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("waves-fig3-{tag}"));
-    let _ = std::fs::remove_dir_all(&out);
-    let status = Command::new(env!("CARGO_BIN_EXE_waves-fig3"))
-        .args([
-            "--tier", "quick", "--seed", "1", "--runs", "16", "--steps", "4000",
-        ])
-        .args(extra)
-        .arg("--out")
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(status.success());
-    for f in ["fig3a.png", "fig3b.png", "fig3.csv"] {
-        assert!(out.join("waves-fig3").join(f).exists(), "{f}");
-    }
-    serde_json::from_str(&std::fs::read_to_string(out.join("waves-fig3/summary.json")).unwrap())
-        .unwrap()
-}
-
-fn pass(s: &serde_json::Value, name: &str) -> bool {
-    s["checks"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap_or_else(|| panic!("check {name}"))["pass"]
-        .as_bool()
-        .unwrap()
-}
-
-fn metric(s: &serde_json::Value, name: &str) -> f64 {
-    s["metrics"][name].as_f64().unwrap()
 }
 
 /// Default reading: the energy identity holds, the energy loss rises and

@@ -13,50 +13,34 @@
 //! correlated fluctuations) has no wave. So each check fails for a wrong
 //! model.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
+use common::pass;
 
 fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("waves-fig4-{tag}"));
-    let _ = std::fs::remove_dir_all(&out);
-    let status = Command::new(env!("CARGO_BIN_EXE_waves-fig4"))
-        .args([
-            "--tier",
-            "quick",
-            "--seed",
-            "1",
-            "--runs",
-            "8",
-            "--lengths",
-            "1024",
-        ])
-        .args(extra)
-        .arg("--out")
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(status.success());
-    for f in [
+    let mut args = vec![
+        "--tier",
+        "quick",
+        "--seed",
+        "1",
+        "--runs",
+        "8",
+        "--lengths",
+        "1024",
+    ];
+    args.extend_from_slice(extra);
+    let files = [
         "fig4.png",
         "fig4_shape.png",
         "fig4_profiles.csv",
         "runs.csv",
-    ] {
-        assert!(out.join("waves-fig4").join(f).exists(), "{f}");
-    }
-    serde_json::from_str(&std::fs::read_to_string(out.join("waves-fig4/summary.json")).unwrap())
-        .unwrap()
-}
-
-fn pass(s: &serde_json::Value, name: &str) -> bool {
-    s["checks"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap_or_else(|| panic!("check {name}"))["pass"]
-        .as_bool()
-        .unwrap()
+    ];
+    common::run_figure(
+        "waves-fig4",
+        env!("CARGO_BIN_EXE_waves-fig4"),
+        &args,
+        tag,
+        &files,
+    )
 }
 
 #[test]

@@ -129,7 +129,11 @@ pub struct SpectrumEnsemble {
 }
 
 /// Run `seeds.len()` independent runs on all cores and combine them.
-pub fn spectrum_ensemble(setup: &SpectrumSetup, seeds: &[u64], tick: &(dyn Fn(u64) + Sync)) -> Result<SpectrumEnsemble> {
+pub fn spectrum_ensemble(
+    setup: &SpectrumSetup,
+    seeds: &[u64],
+    tick: &(dyn Fn(u64) + Sync),
+) -> Result<SpectrumEnsemble> {
     let runs: Vec<SpectrumRun> = ensemble(seeds.len(), |i| bin_spectrum(setup, seeds[i], tick))
         .into_iter()
         .collect::<Result<_>>()?;
@@ -151,7 +155,9 @@ pub fn resumable_ensemble(
     use crate::ensemble::Outcome;
     let key = serde_json::json!({"set-up": name, "spectrum": setup});
     let ens = common.ensemble(binary, &key, runs)?;
-    match ens.run(setup.steps(), |_, seed, tick| bin_spectrum(setup, seed, tick))? {
+    match ens.run(setup.steps(), |_, seed, tick| {
+        bin_spectrum(setup, seed, tick)
+    })? {
         Outcome::Complete(v) => combine(setup, v).map(Some),
         Outcome::ShardDone { shard, runs, dir } => {
             println!(

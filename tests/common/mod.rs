@@ -1,0 +1,53 @@
+//! Helpers shared by the acceptance tests that run a figure binary and read
+//! its `summary.json`.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use std::process::Command;
+
+/// Run figure binary `exe` (named `bin`, its output folder) with `args` into a
+/// fresh folder of the test target directory tagged `tag` (removed first, so
+/// saved runs of an earlier build never stand in for this one); assert that
+/// it succeeds and wrote each of `files`; return its summary.json.
+pub fn run_figure(
+    bin: &str,
+    exe: &str,
+    args: &[&str],
+    tag: &str,
+    files: &[&str],
+) -> serde_json::Value {
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{bin}-{tag}"));
+    let _ = std::fs::remove_dir_all(&out);
+    let status = Command::new(exe)
+        .args(args)
+        .arg("--out")
+        .arg(&out)
+        .status()
+        .expect("the binary runs");
+    assert!(status.success(), "{bin} {args:?} failed");
+    for f in files {
+        assert!(out.join(bin).join(f).exists(), "{bin}: {f} written");
+    }
+    let text =
+        std::fs::read_to_string(out.join(bin).join("summary.json")).expect("summary.json written");
+    serde_json::from_str(&text).expect("summary.json parses")
+}
+
+/// Whether check `name` of a summary passed.
+pub fn pass(s: &serde_json::Value, name: &str) -> bool {
+    s["checks"]
+        .as_array()
+        .expect("checks")
+        .iter()
+        .find(|c| c["name"] == name)
+        .unwrap_or_else(|| panic!("check {name} present"))["pass"]
+        .as_bool()
+        .expect("pass is a bool")
+}
+
+/// Metric `name` of a summary.
+pub fn metric(s: &serde_json::Value, name: &str) -> f64 {
+    s["metrics"][name]
+        .as_f64()
+        .unwrap_or_else(|| panic!("metric {name} present"))
+}
