@@ -64,8 +64,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let rec = record(&mut pipe, a.steps, 80, |_| {})?;
         let s = bands(&rec, rec.n.len() / 2, a.rho, params.bin, params.width);
         Ok(format!(
-            "{rules} p={} b={} g={} rho={} L={} seed={seed}: C={:.3} s_low={:.2} channels(0..6)={:?}",
-            a.p, a.b, a.g, a.rho, a.length, s.contrast, s.s_low, pipe.channel_counts()
+            "{rules} p={} b={} g={} rho={} L={} seed={seed}: C={:.3} s_low={:.2} var_ratio={:.3} channels(0..6)={:?}",
+            a.p, a.b, a.g, a.rho, a.length, s.contrast, s.s_low, s.var_ratio, pipe.channel_counts()
         ))
     });
     for l in lines {

@@ -72,6 +72,10 @@ pub struct Bands {
     pub contrast: f64,
     /// Mean of S(1..3) divided by its random-start value K * var.
     pub s_low: f64,
+    /// Mean per-bin variance of n_i (over bins, per sample) divided by its
+    /// random-start value: well below 1 when the gas has collapsed into a
+    /// uniform free-falling plug (MODEL.md A11), about 1 for a random gas.
+    pub var_ratio: f64,
 }
 
 /// Band statistics over the samples `from..` of `rec` for a pipe of initial
@@ -79,15 +83,21 @@ pub struct Bands {
 pub fn bands(rec: &Record, from: usize, rho: f64, bin: usize, width: usize) -> Bands {
     let samples = &rec.n[from.min(rec.n.len())..];
     let k = samples.first().map(|v| v.len()).unwrap_or(0);
-    let mut low = LowK::new(3, k, random_start_bin_variance(rho, bin, width));
+    let var0 = random_start_bin_variance(rho, bin, width);
+    let mut low = LowK::new(3, k, var0);
     let mut c = 0.0;
+    let mut var = 0.0;
     for v in samples {
         low.add(v);
         c += contrast(v);
+        let mean = v.iter().sum::<f64>() / k.max(1) as f64;
+        var += v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / k.max(1) as f64;
     }
+    let n = samples.len().max(1) as f64;
     Bands {
-        contrast: c / samples.len().max(1) as f64,
+        contrast: c / n,
         s_low: low.mean(),
+        var_ratio: var / n / var0,
     }
 }
 
