@@ -24,6 +24,7 @@ pub mod overlap;
 pub mod record;
 pub mod rules;
 pub mod spectra;
+pub mod sweep;
 
 pub use rules::{GravityWording, RestPlacement, Rules};
 
