@@ -20,6 +20,7 @@
 pub mod claims;
 pub mod collision;
 pub mod observables;
+pub mod open;
 pub mod overlap;
 pub mod record;
 pub mod rules;
