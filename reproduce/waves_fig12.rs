@@ -193,7 +193,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
     let rows: Vec<Vec<f64>> = res.iter().map(|r| r.row()).collect();
     out.write_csv("waves-fig12b.csv", &header(&["I", "I_over_I_c"]), &rows)?;
-    let title = format!("PH95 Fig. 12: open pipe, p = b = g = 0.5, rules {rules}");
+    let title = "PH95 Fig. 12";
     // (a)
     let mut lines = Vec::new();
     for (k, r) in res.iter().enumerate() {
@@ -214,7 +214,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     line_chart_at(
         &out.path("waves-fig12a.png"),
-        &format!("{title}: (a) spectra of the bottom bin, L = 220, W = 11, {sruns} runs"),
+        &format!("{title}a: bottom-bin spectra, open pipe L = 220, W = 11, p = b = g = 0.5, {sruns} runs"),
         "j (frequency j/(2m) per sample of 10 steps)",
         "P(j)",
         &lines,
@@ -228,7 +228,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     errorbar_chart(
         &out.path("waves-fig12b.png"),
-        &format!("{title}: (b) alpha against I (I_c = {i_c:.3})"),
+        &format!("{title}b: alpha against I, p = b = g = 0.5 (I_c = {i_c:.3}), rules {rules}"),
         "injection rate I",
         "alpha (mean over valid runs +- SE)",
         &[ErrSeries::new(
@@ -267,7 +267,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     line_chart(
         &out.path("waves-fig12c.png"),
-        &format!("{title}: (c) N(t), mean over unclogged runs, L = 220, W = 11, {runs} runs"),
+        &format!(
+            "{title}c: N(t), L = 220, W = 11, p = b = g = 0.5, mean of {runs} runs (running ones)"
+        ),
         "t (steps)",
         "particle number N(t)",
         &nlines,
