@@ -268,6 +268,10 @@ pub fn stationarity(records: &[(Vec<f64>, Option<u64>)]) -> Stationarity {
     }
 }
 
+/// What [`bisect_ic`] returns: I_c, the half-width of the final bracket, and
+/// every tested (I, verdict) in order.
+pub type Bisection = (f64, f64, Vec<(f64, Stationarity)>);
+
 /// Bisection for the critical injection rate: the largest I in [lo, hi] at
 /// which `test(I)` says stationary, assuming stationary at `lo` and not at
 /// `hi` (both are tested first; an error if not). Returns (I_c, half-width
@@ -277,7 +281,7 @@ pub fn bisect_ic(
     mut hi: f64,
     steps: usize,
     mut test: impl FnMut(f64) -> Result<Stationarity>,
-) -> Result<(f64, f64, Vec<(f64, Stationarity)>)> {
+) -> Result<Bisection> {
     let mut log = Vec::new();
     for (i, want) in [(lo, true), (hi, false)] {
         let s = test(i)?;
