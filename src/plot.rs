@@ -343,13 +343,32 @@ impl ErrSeries {
 }
 
 /// Draw points with vertical error bars (y +- err), joined by thin lines,
-/// on linear axes to `path` (PNG).
+/// on linear axes to `path` (PNG), legend at the upper right.
 pub fn errorbar_chart(
     path: &Path,
     title: &str,
     xlabel: &str,
     ylabel: &str,
     series: &[ErrSeries],
+) -> Result<()> {
+    errorbar_chart_at(
+        path,
+        title,
+        xlabel,
+        ylabel,
+        series,
+        SeriesLabelPosition::UpperRight,
+    )
+}
+
+/// [`errorbar_chart`] with the legend at `legend`.
+pub fn errorbar_chart_at(
+    path: &Path,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    series: &[ErrSeries],
+    legend: SeriesLabelPosition,
 ) -> Result<()> {
     register_fonts();
     let root = BitMapBackend::new(path, (900, 650)).into_drawing_area();
@@ -428,7 +447,7 @@ pub fn errorbar_chart(
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font((FONT, 16))
-        .position(SeriesLabelPosition::UpperRight)
+        .position(legend)
         .draw()
         .map_err(plot_err)?;
     root.present().map_err(plot_err)?;

@@ -287,10 +287,21 @@ pub fn plot_alpha_v(
     xlabel: &str,
     curves: &[Curve],
 ) -> Result<()> {
-    use crate::plot::{errorbar_chart, ErrSeries, PALETTE};
-    for (what, ylabel, name) in [
-        (0, "alpha (mean over runs +- SE)", "alpha"),
-        (1, "v from the spectral peak, rows/step (mean +- SE)", "v"),
+    use crate::plot::{errorbar_chart_at, ErrSeries, PALETTE};
+    use plotters::chart::SeriesLabelPosition;
+    for (what, ylabel, name, legend) in [
+        (
+            0,
+            "alpha (mean over runs +- SE)",
+            "alpha",
+            SeriesLabelPosition::UpperLeft,
+        ),
+        (
+            1,
+            "v from the spectral peak, rows/step (mean +- SE)",
+            "v",
+            SeriesLabelPosition::LowerRight,
+        ),
     ] {
         let series: Vec<ErrSeries> = curves
             .iter()
@@ -311,12 +322,13 @@ pub fn plot_alpha_v(
                 ErrSeries::new(cv.label, pts, PALETTE[c % PALETTE.len()])
             })
             .collect();
-        errorbar_chart(
+        errorbar_chart_at(
             &dir.join(format!("{stem}_{name}.png")),
             &format!("{title}: {name}"),
             xlabel,
             ylabel,
             &series,
+            legend,
         )?;
     }
     Ok(())
