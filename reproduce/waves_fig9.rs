@@ -13,8 +13,9 @@ use granular_automata::pipe::sweep::{
     header, plot_alpha_v, point_metrics, run_sweep, site_updates, Curve, SweepPoint,
 };
 use granular_automata::pipe::Params;
-use granular_automata::plot::{errorbar_chart, ErrSeries, PALETTE};
+use granular_automata::plot::{errorbar_chart_at, ErrSeries, PALETTE};
 use granular_automata::run::{derive_seed, Check, Output, Summary};
+use plotters::chart::SeriesLabelPosition;
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -85,12 +86,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .iter()
         .map(|r| (r.point.x[0], r.invalid as f64 / runs as f64, 0.0))
         .collect();
-    errorbar_chart(
+    errorbar_chart_at(
         &out.path("waves-fig9_validity.png"),
         &format!("{title}: model validity (MODEL.md A4)"),
         "mean density rho (particles per site)",
         "fraction of runs stopped: rest particles exceed sites",
         &[ErrSeries::new("invalid runs / runs", frac, PALETTE[1])],
+        SeriesLabelPosition::UpperLeft,
     )?;
 
     let mut metrics = BTreeMap::new();
