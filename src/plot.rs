@@ -319,3 +319,137 @@ impl SpaceTime<'_> {
         Ok(())
     }
 }
+
+/// A series of points with symmetric vertical error bars: `(x, y, err)`.
+#[derive(Debug, Clone)]
+pub struct ErrSeries {
+    /// Legend label.
+    pub label: String,
+    /// Points (x, y, one standard error of y); non-finite points are skipped.
+    pub points: Vec<(f64, f64, f64)>,
+    /// Colour.
+    pub color: RGBColor,
+}
+
+impl ErrSeries {
+    /// A series of points with error bars, joined by a thin line.
+    pub fn new(label: &str, points: Vec<(f64, f64, f64)>, color: RGBColor) -> Self {
+        ErrSeries {
+            label: label.to_string(),
+            points,
+            color,
+        }
+    }
+}
+
+/// Draw points with vertical error bars (y +- err), joined by thin lines,
+/// on linear axes to `path` (PNG), legend at the upper right.
+pub fn errorbar_chart(
+    path: &Path,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    series: &[ErrSeries],
+) -> Result<()> {
+    errorbar_chart_at(
+        path,
+        title,
+        xlabel,
+        ylabel,
+        series,
+        SeriesLabelPosition::UpperRight,
+    )
+}
+
+/// [`errorbar_chart`] with the legend at `legend`.
+pub fn errorbar_chart_at(
+    path: &Path,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    series: &[ErrSeries],
+    legend: SeriesLabelPosition,
+) -> Result<()> {
+    register_fonts();
+    let root = BitMapBackend::new(path, (900, 650)).into_drawing_area();
+    root.fill(&WHITE).map_err(plot_err)?;
+    let finite = |s: &ErrSeries| -> Vec<(f64, f64, f64)> {
+        s.points
+            .iter()
+            .copied()
+            .filter(|&(x, y, _)| x.is_finite() && y.is_finite())
+            .map(|(x, y, e)| (x, y, if e.is_finite() { e } else { 0.0 }))
+            .collect()
+    };
+    // bounds include the ends of the error bars
+    let envelope: Vec<Line> = series
+        .iter()
+        .map(|s| {
+            let pts = finite(s)
+                .iter()
+                .flat_map(|&(x, y, e)| [(x, y - e), (x, y + e)])
+                .collect();
+            Line::new("", pts, s.color)
+        })
+        .collect();
+    let ((x0, x1), (y0, y1)) = bounds(&envelope, false);
+    let xpad = 0.04 * (x1 - x0);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, (FONT, 20))
+        .margin(15)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
+        .build_cartesian_2d((x0 - xpad)..(x1 + xpad), y0..y1)
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_label_formatter(&|v: &f64| tick(*v, false))
+        .y_label_formatter(&|v: &f64| tick(*v, false))
+        .x_desc(xlabel)
+        .y_desc(ylabel)
+        .label_style((FONT, 16))
+        .draw()
+        .map_err(plot_err)?;
+    for s in series {
+        let pts = finite(s);
+        let color = s.color;
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter().map(|&(x, y, _)| (x, y)),
+                color.stroke_width(1),
+            ))
+            .map_err(plot_err)?;
+        chart
+            .draw_series(pts.iter().map(|&(x, y, e)| {
+                PathElement::new(vec![(x, y - e), (x, y + e)], color.stroke_width(2))
+            }))
+            .map_err(plot_err)?;
+        // caps: short horizontal strokes at both ends, 1.5% of the x range
+        let cap = 0.015 * (x1 - x0 + 2.0 * xpad);
+        chart
+            .draw_series(pts.iter().flat_map(|&(x, y, e)| {
+                [y - e, y + e].map(|yy| {
+                    PathElement::new(vec![(x - cap, yy), (x + cap, yy)], color.stroke_width(2))
+                })
+            }))
+            .map_err(plot_err)?;
+        chart
+            .draw_series(
+                pts.iter()
+                    .map(|&(x, y, _)| Circle::new((x, y), 4, color.filled())),
+            )
+            .map_err(plot_err)?
+            .label(s.label.clone())
+            .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font((FONT, 16))
+        .position(legend)
+        .draw()
+        .map_err(plot_err)?;
+    root.present().map_err(plot_err)?;
+    Ok(())
+}

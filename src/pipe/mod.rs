@@ -20,10 +20,12 @@
 pub mod claims;
 pub mod collision;
 pub mod observables;
+pub mod open;
 pub mod overlap;
 pub mod record;
 pub mod rules;
 pub mod spectra;
+pub mod sweep;
 
 pub use rules::{GravityWording, RestPlacement, Rules};
 

@@ -1,0 +1,274 @@
+//! PH95 Fig. 11: the open pipe (MODEL.md A7). (a) Space-time plot, L = 1000,
+//! W = 5, 100 bins, injection I = 0.5, p = b = 0.5, g = 0.2, 40000 steps from
+//! an empty pipe; (b) the two-point correlation C(R, T) of MODEL.md A9 against
+//! T at R = 30 bins, its peak T_c and the speed v = R * bin / T_c over runs.
+//!
+//! With the default reading the published I = 0.5 fills the pipe with rest
+//! particles within a few thousand steps (the model's validity limit, MODEL.md
+//! A4: a clog). That is measured and reported; the correlation is measured at
+//! I = 0.3 (stationary at this set-up), stated in every output.
+//!
+//! `cargo run --release --bin waves-fig11 -- --tier quick`
+
+use clap::Parser;
+use granular_automata::cli::{Common, PipeRules};
+use granular_automata::ensemble::Outcome;
+use granular_automata::pipe::open::{correlation, open_run, peak_index, OpenRecord};
+use granular_automata::pipe::{Boundary, Params};
+use granular_automata::plot::{line_chart, plot_err, register_fonts, Line, SpaceTime, PALETTE};
+use granular_automata::run::{derive_seed, mean_sem, Check, Output, Summary};
+use plotters::prelude::*;
+use serde::{Deserialize, Serialize};
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(about = "PH95 Fig. 11: open pipe space-time plot and two-point correlation")]
+struct Args {
+    #[command(flatten)]
+    common: Common,
+    #[command(flatten)]
+    rules: PipeRules,
+}
+
+const STEPS: u64 = 40_000;
+/// The published injection rate.
+const I_PAPER: f64 = 0.5;
+/// The rate at which the correlation is measured (stationary, below I_c).
+const I_CORR: f64 = 0.3;
+/// R in bins.
+const R: isize = 30;
+/// Correlation samples every EVERY steps, from step SKIP on (the filling
+/// transient of a 1000-row pipe is ~1000-2000 steps), T up to T_MAX samples.
+const EVERY: u64 = 10;
+const SKIP: usize = 1000;
+const T_MAX: usize = 300;
+
+/// What one run keeps.
+#[derive(Serialize, Deserialize)]
+struct CorrRun {
+    /// C(+R, T): bin i+R above bin i (a signal moving up, against gravity).
+    up: Vec<f64>,
+    /// C(-R, T): a signal moving down.
+    down: Vec<f64>,
+    /// N(t) every EVERY steps.
+    total: Vec<f64>,
+    bookkeeping_errors: u64,
+    stopped_at: Option<u64>,
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = Args::parse();
+    let rules = args.rules.parse()?;
+    let c = &args.common;
+    let base = Params {
+        length: 1000,
+        width: 5,
+        p: 0.5,
+        b: 0.5,
+        g: 0.2,
+        bin: 10,
+        ..Params::default()
+    };
+    let at = |inject: f64| Params {
+        boundary: Boundary::Open { inject },
+        ..base
+    };
+    let runs = c.runs_or(4, 8, 32);
+    let start = Instant::now();
+    let mut results = Vec::new();
+    for inject in [I_PAPER, I_CORR] {
+        let key = json!({"open-correlation": at(inject), "steps": STEPS, "every": EVERY, "skip": SKIP, "t_max": T_MAX, "r": R, "rules": rules.to_string()});
+        let ens = c.ensemble("waves-fig11", &key, runs)?;
+        let out = ens.run(STEPS, |_, seed, tick| {
+            let rec = open_run(at(inject), rules, seed, STEPS, EVERY, true, tick)?;
+            let ok = rec.stopped.is_none();
+            let win = if ok { &rec.n[SKIP..] } else { &rec.n[..0] };
+            Ok(CorrRun {
+                up: if ok {
+                    correlation(win, R, T_MAX)?
+                } else {
+                    vec![]
+                },
+                down: if ok {
+                    correlation(win, -R, T_MAX)?
+                } else {
+                    vec![]
+                },
+                total: rec.total.clone(),
+                bookkeeping_errors: rec.bookkeeping_errors,
+                stopped_at: rec.stopped.map(|s| s.0),
+            })
+        })?;
+        match out {
+            Outcome::Complete(v) => results.push(v),
+            Outcome::ShardDone { shard, dir, .. } => {
+                println!("waves-fig11 I = {inject}: shard {shard} done in {}; merge, then rerun without --shard", dir.display());
+            }
+        }
+    }
+    if results.len() < 2 {
+        return Ok(());
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let out = Output::new(&c.out, "waves-fig11")?;
+
+    // (a) space-time plots of run 0 at both rates, n_i every 80 steps
+    register_fonts();
+    for inject in [I_PAPER, I_CORR] {
+        let rec: OpenRecord = open_run(
+            at(inject),
+            rules,
+            derive_seed(c.seed, 0),
+            STEPS,
+            80,
+            true,
+            &|_| {},
+        )?;
+        let hi = rec.n.iter().flatten().cloned().fold(1.0, f64::max);
+        let st = SpaceTime {
+            values: &rec.n,
+            white: 0.0,
+            black: hi,
+            t0: 80.0,
+            dt: 80.0,
+            rows_per_bin: 10.0,
+            time_right_to_left: false,
+            bottom_at_bottom: true,
+        };
+        let path = out.path(&format!("waves-fig11a_I{inject}.png"));
+        let root = BitMapBackend::new(&path, (1100, 650)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let stop = match &rec.stopped {
+            Some((s, _)) => format!(", clogged at step {s}"),
+            None => String::new(),
+        };
+        st.draw(
+            &root,
+            &format!("PH95 Fig. 11a: open pipe L = 1000, W = 5, I = {inject}, g = 0.2, time left to right, n_i white 0 black {hi:.0}{stop}"),
+        )?;
+        root.present().map_err(plot_err)?;
+    }
+
+    // clogging at the published rate
+    let paper = &results[0];
+    let clogged: Vec<f64> = paper
+        .iter()
+        .filter_map(|r| r.stopped_at.map(|s| s as f64))
+        .collect();
+    let (clog_step, clog_step_err) = mean_sem(&clogged);
+    // (b) the correlation at I_CORR
+    let corr = &results[1];
+    let valid: Vec<&CorrRun> = corr.iter().filter(|r| r.stopped_at.is_none()).collect();
+    let mean_curve = |f: &dyn Fn(&CorrRun) -> &Vec<f64>| -> Vec<f64> {
+        (0..=T_MAX)
+            .map(|t| valid.iter().map(|r| f(r)[t]).sum::<f64>() / valid.len().max(1) as f64)
+            .collect()
+    };
+    let up = mean_curve(&|r| &r.up);
+    let down = mean_curve(&|r| &r.down);
+    let prominence = |c: &[f64]| {
+        let mut s = c[1..].to_vec();
+        s.sort_by(|a, b| a.total_cmp(b));
+        c[peak_index(c, 1).unwrap_or(1)] - s[s.len() / 2]
+    };
+    let upward = prominence(&up) >= prominence(&down);
+    let (main, dir) = if upward { (&up, "up") } else { (&down, "down") };
+    let t_c_samples = peak_index(main, 1).unwrap_or(0);
+    let t_c = (t_c_samples as u64 * EVERY) as f64;
+    let speeds: Vec<f64> = valid
+        .iter()
+        .filter_map(|r| {
+            let c = if upward { &r.up } else { &r.down };
+            peak_index(c, 1).map(|t| (R as f64 * 10.0) / (t as f64 * EVERY as f64))
+        })
+        .collect();
+    let (v_corr, v_corr_err) = mean_sem(&speeds);
+    let rows: Vec<Vec<f64>> = (0..=T_MAX)
+        .map(|t| vec![(t as u64 * EVERY) as f64, up[t], down[t]])
+        .collect();
+    out.write_csv("waves-fig11b.csv", &["T", "C_up", "C_down"], &rows)?;
+    let pts = |c: &[f64]| -> Vec<(f64, f64)> {
+        c.iter()
+            .enumerate()
+            .map(|(t, &y)| ((t as u64 * EVERY) as f64, y))
+            .collect()
+    };
+    line_chart(
+        &out.path("waves-fig11b.png"),
+        &format!(
+            "PH95 Fig. 11b: C(R = {R} bins, T), open pipe I = {I_CORR}, g = 0.2, mean of {} runs",
+            valid.len()
+        ),
+        "T (steps)",
+        "C(R, T) (fluctuations, per bin pair and sample)",
+        &[
+            Line::new(
+                &format!("R = +{R}: bin i+R above i (moving up)"),
+                pts(&up),
+                PALETTE[0],
+            ),
+            Line::new(
+                &format!("R = -{R}: bin i+R below i (moving down)"),
+                pts(&down),
+                PALETTE[1],
+            ),
+            Line::new(
+                &format!("peak T_c = {t_c} ({dir}), v = {v_corr:.3} +- {v_corr_err:.3}"),
+                vec![(t_c, main[t_c_samples])],
+                PALETTE[2],
+            )
+            .markers(),
+        ],
+        false,
+    )?;
+
+    let book: u64 = paper
+        .iter()
+        .chain(corr.iter())
+        .map(|r| r.bookkeeping_errors)
+        .sum();
+    let mut metrics = BTreeMap::new();
+    metrics.insert("t_c".into(), t_c);
+    metrics.insert("v_corr".into(), v_corr);
+    metrics.insert("v_corr_err".into(), v_corr_err);
+    metrics.insert("direction_up".into(), if upward { 1.0 } else { 0.0 });
+    metrics.insert(
+        "t_c_up".into(),
+        (peak_index(&up, 1).unwrap_or(0) as u64 * EVERY) as f64,
+    );
+    metrics.insert(
+        "t_c_down".into(),
+        (peak_index(&down, 1).unwrap_or(0) as u64 * EVERY) as f64,
+    );
+    metrics.insert("inject_correlation".into(), I_CORR);
+    metrics.insert(
+        "clogged_fraction_I0.5".into(),
+        clogged.len() as f64 / runs as f64,
+    );
+    metrics.insert("clog_step_I0.5".into(), clog_step);
+    metrics.insert("clog_step_I0.5_err".into(), clog_step_err);
+    metrics.insert("valid_runs_correlation".into(), valid.len() as f64);
+    let checks = vec![
+        Check::claim("bookkeeping_exact", book as f64, 0.0, book == 0,
+            "MODEL.md A7: injected - out_bottom - out_top = N(t) - N(0) at every sample of every run"),
+        Check::claim("paper_setup_flows", clogged.len() as f64, 0.0, clogged.is_empty(),
+            "the published set-up (I = 0.5, g = 0.2) runs 40000 steps without filling with rest particles (PH95 shows it flowing); measured: runs that clog"),
+        Check::claim("correlation_peak_inside", t_c, 0.0, t_c_samples > 1 && t_c_samples < T_MAX && valid.len() == corr.len(),
+            &format!("C(R, T) at I = {I_CORR} has its peak strictly inside 0 < T < {} steps, all runs stationary", T_MAX as u64 * EVERY)),
+    ];
+    out.finish(&Summary {
+        figure: "waves-fig11".into(),
+        paper: "PH95 Fig. 11".into(),
+        tier: c.tier,
+        seeds: (0..runs as u64).map(|i| derive_seed(c.seed, i)).collect(),
+        params: json!({"paper": at(I_PAPER), "correlation": at(I_CORR), "steps": STEPS, "every": EVERY, "skip_samples": SKIP, "t_max_samples": T_MAX, "R_bins": R}),
+        rules: rules.to_string(),
+        wall_seconds: wall,
+        site_updates: (2 * runs as u64 * STEPS * base.sites() as u64) as f64,
+        metrics,
+        checks,
+    })?;
+    Ok(())
+}

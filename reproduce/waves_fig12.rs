@@ -1,0 +1,322 @@
+//! PH95 Fig. 12: the open pipe at p = b = g = 0.5 (MODEL.md A7). The critical
+//! injection rate I_c (the largest I at which N(t) becomes stationary: no
+//! clogging) by bisection with a trend test, and its dependence on W and L;
+//! (a) spectra of the bottom bin below, near and above I_c; (b) alpha against
+//! I; (c) N(t) for several I averaged over runs. Choice: the main pipe is
+//! L = 220, W = 11 (as Figs. 2-10); I_c is also measured for other W and L.
+//! Blind reproduction: the published values are not used.
+//!
+//! `cargo run --release --bin waves-fig12 -- --tier quick`
+
+use clap::Parser;
+use granular_automata::cli::{Common, PipeRules};
+use granular_automata::ensemble::Outcome;
+use granular_automata::pipe::open::{bisect_ic, open_run, stationarity, Stationarity};
+use granular_automata::pipe::spectra::{spectrum_lines, tier_setup};
+use granular_automata::pipe::sweep::{header, point_metrics, run_sweep, site_updates, SweepPoint};
+use granular_automata::pipe::{Boundary, Params, Rules};
+use granular_automata::plot::{
+    errorbar_chart, line_chart, line_chart_at, ErrSeries, Line, PALETTE,
+};
+use granular_automata::run::{derive_seed, Check, Output, Summary};
+use plotters::chart::SeriesLabelPosition;
+use serde::{Deserialize, Serialize};
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(about = "PH95 Fig. 12: open pipe, critical injection rate, spectra and alpha against I")]
+struct Args {
+    #[command(flatten)]
+    common: Common,
+    #[command(flatten)]
+    rules: PipeRules,
+}
+
+/// N(t) sampled every EVERY steps.
+const EVERY: u64 = 100;
+
+/// One trend run: N(t), the clog step if any, bookkeeping failures.
+#[derive(Serialize, Deserialize)]
+struct TrendRun {
+    total: Vec<f64>,
+    clogged_at: Option<u64>,
+    bookkeeping_errors: u64,
+}
+
+/// The trend runs of one (pipe, I): all runs, or an error.
+fn trend(
+    c: &Common,
+    rules: Rules,
+    params: Params,
+    steps: u64,
+    runs: usize,
+) -> granular_automata::Result<Vec<TrendRun>> {
+    let key =
+        json!({"open-trend": params, "steps": steps, "every": EVERY, "rules": rules.to_string()});
+    let ens = c.ensemble("waves-fig12", &key, runs)?.quiet();
+    match ens.run(steps, |_, seed, tick| {
+        let r = open_run(params, rules, seed, steps, EVERY, false, tick)?;
+        Ok(TrendRun {
+            total: r.total,
+            clogged_at: r.stopped.map(|s| s.0),
+            bookkeeping_errors: r.bookkeeping_errors,
+        })
+    })? {
+        Outcome::Complete(v) => Ok(v),
+        Outcome::ShardDone { .. } => unreachable!("--shard is rejected by waves-fig12"),
+    }
+}
+
+fn verdict(v: &[TrendRun]) -> Stationarity {
+    let recs: Vec<(Vec<f64>, Option<u64>)> =
+        v.iter().map(|r| (r.total.clone(), r.clogged_at)).collect();
+    stationarity(&recs)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = Args::parse();
+    let rules = args.rules.parse()?;
+    let c = &args.common;
+    c.reject_shard("waves-fig12")?; // the bisection is sequential
+    let base = Params {
+        p: 0.5,
+        b: 0.5,
+        g: 0.5,
+        ..Params::default()
+    };
+    let open = |l: usize, w: usize, inject: f64| Params {
+        length: l,
+        width: w,
+        boundary: Boundary::Open { inject },
+        ..base
+    };
+    let steps: u64 = c.tier.pick(20_000, 50_000, 100_000);
+    let runs = c.runs_or(4, 8, 32);
+    let bisect_steps = c.tier.pick(5, 6, 7);
+    let geoms: &[(usize, usize)] = c.tier.pick(
+        &[(220, 11), (220, 5), (440, 11)][..],
+        &[(220, 11), (220, 5), (440, 11), (1000, 5)][..],
+        &[
+            (220, 11),
+            (220, 5),
+            (220, 21),
+            (440, 11),
+            (880, 11),
+            (1000, 5),
+        ][..],
+    );
+    let start = Instant::now();
+    let mut book = 0u64;
+    let mut ic = Vec::new();
+    let mut bisect_rows = Vec::new();
+    for &(l, w) in geoms {
+        eprintln!("waves-fig12: bisection for I_c at L = {l}, W = {w}");
+        let (i_c, err, log) = bisect_ic(0.0, 1.0, bisect_steps, |i| {
+            let v = trend(c, rules, open(l, w, i), steps, runs)?;
+            book += v.iter().map(|r| r.bookkeeping_errors).sum::<u64>();
+            Ok(verdict(&v))
+        })?;
+        for (i, s) in &log {
+            bisect_rows.push(vec![
+                l as f64,
+                w as f64,
+                *i,
+                s.clogged as f64,
+                s.growth,
+                s.growth_err,
+                s.t,
+                s.stationary as u8 as f64,
+            ]);
+        }
+        eprintln!("  I_c = {i_c:.4} +- {err:.4}");
+        ic.push((l, w, i_c, err));
+    }
+    let (_, _, i_c, i_c_err) = ic[0];
+    let round = |x: f64| (x * 1000.0).round() / 1000.0;
+
+    // (c) N(t) below, near and above I_c at the main pipe
+    let fracs = [0.5, 0.9, 1.25];
+    let mut nt = Vec::new();
+    for f in fracs {
+        let i = round((f * i_c).min(1.0));
+        let v = trend(c, rules, open(220, 11, i), steps, runs)?;
+        book += v.iter().map(|r| r.bookkeeping_errors).sum::<u64>();
+        nt.push((i, verdict(&v), v));
+    }
+    // (a), (b) spectra of the bottom bin against I
+    let ifr: &[f64] = c.tier.pick(
+        &[0.25, 0.5, 0.9, 1.25][..],
+        &[0.1, 0.25, 0.5, 0.75, 0.9, 1.1, 1.25][..],
+        &[0.1, 0.25, 0.5, 0.75, 0.9, 1.0, 1.1, 1.25][..],
+    );
+    let points: Vec<SweepPoint> = ifr
+        .iter()
+        .map(|f| {
+            let i = round((f * i_c).min(1.0));
+            SweepPoint {
+                label: format!("I{i}"),
+                x: vec![i, *f],
+                params: open(220, 11, i),
+            }
+        })
+        .collect();
+    let sruns = c.runs_or(2, 8, 32);
+    let setup_of = |p| tier_setup(c.tier, p, rules);
+    let res = run_sweep(c, "waves-fig12", &points, sruns, setup_of)?.expect("no shard");
+    let wall = start.elapsed().as_secs_f64();
+
+    let out = Output::new(&c.out, "waves-fig12")?;
+    out.write_csv(
+        "waves-fig12_bisection.csv",
+        &[
+            "L",
+            "W",
+            "I",
+            "clogged_runs",
+            "growth",
+            "growth_err",
+            "t",
+            "stationary",
+        ],
+        &bisect_rows,
+    )?;
+    let ic_rows: Vec<Vec<f64>> = ic
+        .iter()
+        .map(|&(l, w, i, e)| vec![l as f64, w as f64, i, e])
+        .collect();
+    out.write_csv(
+        "waves-fig12_ic.csv",
+        &["L", "W", "i_c", "i_c_err"],
+        &ic_rows,
+    )?;
+    let rows: Vec<Vec<f64>> = res.iter().map(|r| r.row()).collect();
+    out.write_csv("waves-fig12b.csv", &header(&["I", "I_over_I_c"]), &rows)?;
+    let title = "PH95 Fig. 12";
+    // (a)
+    let mut lines = Vec::new();
+    for (k, r) in res.iter().enumerate() {
+        let f = r.point.x[1];
+        if [0.5, 0.9, 1.25].contains(&f) {
+            match &r.ensemble {
+                Some(e) => lines.extend(spectrum_lines(
+                    e,
+                    &format!("I = {} ({f} I_c)", r.point.x[0]),
+                    3 * k,
+                )),
+                None => eprintln!(
+                    "waves-fig12: I = {}: all runs clogged, no spectrum",
+                    r.point.x[0]
+                ),
+            }
+        }
+    }
+    line_chart_at(
+        &out.path("waves-fig12a.png"),
+        &format!("{title}a: bottom-bin spectra, open pipe L = 220, W = 11, p = b = g = 0.5, {sruns} runs"),
+        "j (frequency j/(2m) per sample of 10 steps)",
+        "P(j)",
+        &lines,
+        true,
+        SeriesLabelPosition::LowerLeft,
+    )?;
+    // (b)
+    let pts: Vec<(f64, f64, f64)> = res
+        .iter()
+        .map(|r| (r.point.x[0], r.alpha, r.alpha_err))
+        .collect();
+    errorbar_chart(
+        &out.path("waves-fig12b.png"),
+        &format!("{title}b: alpha against I, p = b = g = 0.5 (I_c = {i_c:.3}), rules {rules}"),
+        "injection rate I",
+        "alpha (mean over valid runs +- SE)",
+        &[ErrSeries::new(
+            "L = 220, W = 11 (clogged points omitted)",
+            pts,
+            PALETTE[0],
+        )],
+    )?;
+    // (c)
+    let nlines: Vec<Line> = nt
+        .iter()
+        .enumerate()
+        .map(|(k, (i, s, v))| {
+            let len = v.iter().map(|r| r.total.len()).max().unwrap_or(0);
+            let pts = (0..len)
+                .filter_map(|t| {
+                    let alive: Vec<f64> =
+                        v.iter().filter_map(|r| r.total.get(t).copied()).collect();
+                    (!alive.is_empty()).then(|| {
+                        (
+                            ((t + 1) as u64 * EVERY) as f64,
+                            alive.iter().sum::<f64>() / alive.len() as f64,
+                        )
+                    })
+                })
+                .collect();
+            Line::new(
+                &format!(
+                    "I = {i}: {}/{} runs clogged, growth t = {:.1}",
+                    s.clogged, s.runs, s.t
+                ),
+                pts,
+                PALETTE[k],
+            )
+        })
+        .collect();
+    line_chart(
+        &out.path("waves-fig12c.png"),
+        &format!(
+            "{title}c: N(t), L = 220, W = 11, p = b = g = 0.5, mean of {runs} runs (running ones)"
+        ),
+        "t (steps)",
+        "particle number N(t)",
+        &nlines,
+        false,
+    )?;
+
+    let mut metrics = BTreeMap::new();
+    metrics.insert("i_c".into(), i_c);
+    metrics.insert("i_c_err".into(), i_c_err);
+    for &(l, w, i, e) in &ic {
+        metrics.insert(format!("i_c_L{l}_W{w}"), i);
+        metrics.insert(format!("i_c_err_L{l}_W{w}"), e);
+    }
+    for r in &res {
+        point_metrics(r, &mut metrics);
+    }
+    let spread = ic
+        .iter()
+        .map(|&(_, _, i, _)| (i - i_c).abs())
+        .fold(0.0, f64::max);
+    let tol_geom = ic
+        .iter()
+        .map(|&(_, _, _, e)| 2.0 * (e * e + i_c_err * i_c_err).sqrt())
+        .fold(f64::INFINITY, f64::min);
+    metrics.insert("i_c_geometry_spread".into(), spread);
+    let checks = vec![
+        Check::claim("bookkeeping_exact", book as f64, 0.0, book == 0, "MODEL.md A7: injected - out_bottom - out_top = N(t) - N(0) at every sample of every trend run"),
+        Check::claim("stationary_below_i_c", nt[0].1.t, nt[0].1.growth_err, nt[0].1.stationary,
+            &format!("N(t) at I = {} (0.5 I_c): no clog and growth t < 3 (fresh runs, same test as the bisection)", nt[0].0)),
+        Check::claim("growing_above_i_c", nt[2].1.t, nt[2].1.growth_err, !nt[2].1.stationary,
+            &format!("N(t) at I = {} (1.25 I_c): clogs or grows (t >= 3)", nt[2].0)),
+        Check::claim("i_c_independent_of_w_and_l", spread, 0.0, spread <= tol_geom,
+            &format!("PH95 claims no dependence on W and L: max |I_c(L, W) - I_c(220, 11)| <= 2 x combined bisection half-widths = {tol_geom:.4}")),
+    ];
+    out.finish(&Summary {
+        figure: "waves-fig12".into(),
+        paper: "PH95 Fig. 12".into(),
+        tier: c.tier,
+        seeds: (0..runs.max(sruns) as u64).map(|i| derive_seed(c.seed, i)).collect(),
+        params: json!({"base": base, "geometries": geoms, "trend_steps": steps, "trend_every": EVERY, "trend_runs": runs,
+            "bisection_steps": bisect_steps, "spectrum_runs": sruns, "I_over_I_c": ifr, "setup": setup_of(open(220, 11, i_c))}),
+        rules: rules.to_string(),
+        wall_seconds: wall,
+        site_updates: bisect_rows.iter().map(|r| r[0] * r[1]).sum::<f64>() * (runs as u64 * steps) as f64
+            + site_updates(&points, sruns, setup_of),
+        metrics,
+        checks,
+    })?;
+    Ok(())
+}

@@ -1,0 +1,343 @@
+//! The open pipe (MODEL.md A7, PH95 Figs. 11-12): runs from an empty pipe
+//! with injection at the top, the recorded bin densities and particle number,
+//! the exact mass bookkeeping, and the two-point correlation C(R, T) of
+//! MODEL.md A9 with its peak.
+
+use super::{Boundary, Params, Pipe, Rules};
+use crate::error::{Error, ErrorKind, Result};
+use serde::{Deserialize, Serialize};
+
+/// What one open-pipe run records.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct OpenRecord {
+    /// Steps between samples.
+    pub every: u64,
+    /// Bin counts n_i(t), one vector per sample (sample s at step (s+1) * every).
+    pub n: Vec<Vec<f64>>,
+    /// Particle number N(t) at each sample.
+    pub total: Vec<f64>,
+    /// Samples at which injected - out_bottom - out_top differed from N(t)
+    /// (MODEL.md A7: must be 0).
+    pub bookkeeping_errors: u64,
+    /// Particles injected over the run.
+    pub injected: u64,
+    /// Particles that left at the bottom.
+    pub out_bottom: u64,
+    /// Particles that left at the top.
+    pub out_top: u64,
+    /// When the run left the model's validity (MODEL.md A4: the pipe filled
+    /// with rest particles, a clog): the step and the message. The record
+    /// holds the samples before it.
+    pub stopped: Option<(u64, String)>,
+}
+
+/// The injection rate of an open pipe, or an error naming the boundary.
+pub fn inject_of(params: &Params) -> Result<f64> {
+    match params.boundary {
+        Boundary::Open { inject } => Ok(inject),
+        Boundary::Periodic => Err(Error::new(
+            ErrorKind::InvalidParameter,
+            "an open-pipe run needs boundary = Open { inject }, got Periodic; set Params::boundary",
+        )),
+    }
+}
+
+/// Run an open pipe from empty for `steps` steps, sampling every `every`
+/// steps (bin counts only when `bins` is true) and checking the bookkeeping
+/// injected - out_bottom - out_top = N(t) - N(0) at every sample.
+pub fn open_run(
+    params: Params,
+    rules: Rules,
+    seed: u64,
+    steps: u64,
+    every: u64,
+    bins: bool,
+    tick: &(dyn Fn(u64) + Sync),
+) -> Result<OpenRecord> {
+    inject_of(&params)?;
+    if every == 0 {
+        return Err(Error::out_of_range("sampling interval", 0, "[1, inf)"));
+    }
+    let mut pipe = Pipe::new(params, rules, seed)?;
+    let n0 = pipe.particle_count() as i64;
+    let mut rec = OpenRecord {
+        every,
+        n: Vec::new(),
+        total: Vec::new(),
+        bookkeeping_errors: 0,
+        injected: 0,
+        out_bottom: 0,
+        out_top: 0,
+        stopped: None,
+    };
+    for _ in 0..steps / every {
+        if let Err(e) = pipe.run(every) {
+            if crate::pipe::sweep::is_validity_limit(e.kind) {
+                rec.stopped = Some((pipe.time(), e.message));
+                break;
+            }
+            return Err(e);
+        }
+        tick(every);
+        let f = pipe.flux();
+        let n = pipe.particle_count() as i64;
+        if f.injected as i64 - f.out_bottom as i64 - f.out_top as i64 != n - n0 {
+            rec.bookkeeping_errors += 1;
+        }
+        rec.total.push(n as f64);
+        if bins {
+            rec.n.push(pipe.bin_counts());
+        }
+    }
+    let f = pipe.flux();
+    rec.injected = f.injected;
+    rec.out_bottom = f.out_bottom;
+    rec.out_top = f.out_top;
+    Ok(rec)
+}
+
+/// Two-point correlation of MODEL.md A9 (PH95 eq. 2),
+/// C(R, T) = <dn_i(t) dn_{i+R}(t+T)> averaged over all i, t with both bins
+/// inside the pipe (no wrap) and both times inside the record, for
+/// T = 0..=t_max samples. dn_i = n_i - (time mean of n_i): the constant
+/// background <n_i><n_{i+R}> of eq. 2 is removed (it does not move the peak
+/// for a stationary record). R may be negative (bin i+R below bin i).
+pub fn correlation(n: &[Vec<f64>], r: isize, t_max: usize) -> Result<Vec<f64>> {
+    let s = n.len();
+    let k = n.first().map_or(0, |v| v.len());
+    if s <= t_max + 1 || k as isize <= r.abs() {
+        return Err(Error::new(
+            ErrorKind::BadSeries,
+            format!(
+                "correlation needs more than t_max + 1 = {} samples and more than |R| = {} bins; got {s} samples of {k} bins; record longer or lower R",
+                t_max + 1,
+                r.abs()
+            ),
+        ));
+    }
+    let mean: Vec<f64> = (0..k)
+        .map(|i| n.iter().map(|v| v[i]).sum::<f64>() / s as f64)
+        .collect();
+    let d: Vec<Vec<f64>> = n
+        .iter()
+        .map(|v| v.iter().zip(&mean).map(|(x, m)| x - m).collect())
+        .collect();
+    let (i0, i1) = if r >= 0 {
+        (0, k - r as usize)
+    } else {
+        ((-r) as usize, k)
+    };
+    Ok((0..=t_max)
+        .map(|t| {
+            let mut sum = 0.0;
+            for tt in 0..s - t {
+                let (a, b) = (&d[tt], &d[tt + t]);
+                for i in i0..i1 {
+                    sum += a[i] * b[(i as isize + r) as usize];
+                }
+            }
+            sum / ((s - t) * (i1 - i0)) as f64
+        })
+        .collect())
+}
+
+/// Index of the largest value of `c` with index >= `from` (the peak T_c).
+pub fn peak_index(c: &[f64], from: usize) -> Option<usize> {
+    (from..c.len())
+        .filter(|&t| c[t].is_finite())
+        .max_by(|&a, &b| c[a].total_cmp(&c[b]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn correlation_finds_a_moving_pulse() {
+        // a pulse moving up one bin every 3 samples: C(R = 4, T) peaks at T = 12
+        let k = 20;
+        let n: Vec<Vec<f64>> = (0..300)
+            .map(|t| {
+                let pos = (t / 3) % k;
+                (0..k).map(|i| if i == pos { 5.0 } else { 1.0 }).collect()
+            })
+            .collect();
+        let c = correlation(&n, 4, 30).unwrap();
+        assert_eq!(peak_index(&c, 1), Some(12));
+        // the reverse direction does not peak at 12
+        let c = correlation(&n, -4, 30).unwrap();
+        assert_ne!(peak_index(&c, 1), Some(12));
+        assert!(correlation(&n, 25, 30).is_err());
+    }
+
+    #[test]
+    fn open_run_keeps_the_books() {
+        let params = Params {
+            length: 100,
+            width: 5,
+            p: 0.5,
+            b: 0.5,
+            g: 0.2,
+            boundary: Boundary::Open { inject: 0.2 },
+            ..Params::default()
+        };
+        let rec = open_run(params, Rules::default(), 3, 2000, 10, true, &|_| {}).unwrap();
+        assert_eq!(rec.bookkeeping_errors, 0);
+        assert!(rec.stopped.is_none());
+        assert!(rec.injected > 0 && rec.out_bottom > 0);
+        assert_eq!(
+            rec.injected - rec.out_bottom - rec.out_top,
+            *rec.total.last().unwrap() as u64
+        );
+        // I = 0.5 fills this pipe with rest particles: recorded, not fatal
+        let clog = Params {
+            boundary: Boundary::Open { inject: 0.5 },
+            ..params
+        };
+        let rec = open_run(clog, Rules::default(), 3, 2000, 10, true, &|_| {}).unwrap();
+        assert!(rec.stopped.is_some() && rec.bookkeeping_errors == 0);
+        assert!(open_run(
+            Params::default(),
+            Rules::default(),
+            3,
+            10,
+            10,
+            false,
+            &|_| {}
+        )
+        .is_err());
+    }
+}
+
+/// The verdict of the trend test on the N(t) records of one injection rate.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Stationarity {
+    /// Runs.
+    pub runs: usize,
+    /// Runs that clogged (left the model's validity by filling with rest
+    /// particles) before the end.
+    pub clogged: usize,
+    /// Mean over unclogged runs of mean(N, last quarter) - mean(N, third quarter).
+    pub growth: f64,
+    /// Standard error of that mean over runs.
+    pub growth_err: f64,
+    /// growth / growth_err (0 when both are 0).
+    pub t: f64,
+    /// No run clogged and t < [`TREND_T`].
+    pub stationary: bool,
+}
+
+/// One-sided threshold of the trend test: N(t) grows when the mean growth
+/// between the third and the last quarter of the record exceeds 3 standard
+/// errors over runs (false-alarm rate 0.13% for a normal mean; about 3% with
+/// 4 runs, Student t with 3 degrees of freedom).
+pub const TREND_T: f64 = 3.0;
+
+/// Trend test of N(t) records (sampled at equal intervals), each with the
+/// step at which it clogged, if it did.
+pub fn stationarity(records: &[(Vec<f64>, Option<u64>)]) -> Stationarity {
+    let clogged = records.iter().filter(|r| r.1.is_some()).count();
+    let d: Vec<f64> = records
+        .iter()
+        .filter(|r| r.1.is_none() && r.0.len() >= 4)
+        .map(|(n, _)| {
+            let q = n.len() / 4;
+            let mean = |s: &[f64]| s.iter().sum::<f64>() / s.len() as f64;
+            mean(&n[3 * q..]) - mean(&n[2 * q..3 * q])
+        })
+        .collect();
+    let (growth, growth_err) = if d.is_empty() {
+        (f64::NAN, f64::NAN)
+    } else {
+        crate::run::mean_sem(&d)
+    };
+    let t = if growth_err > 0.0 {
+        growth / growth_err
+    } else if growth > 0.0 {
+        f64::INFINITY
+    } else {
+        0.0
+    };
+    Stationarity {
+        runs: records.len(),
+        clogged,
+        growth,
+        growth_err,
+        t,
+        stationary: clogged == 0 && !d.is_empty() && t < TREND_T,
+    }
+}
+
+/// What [`bisect_ic`] returns: I_c, the half-width of the final bracket, and
+/// every tested (I, verdict) in order.
+pub type Bisection = (f64, f64, Vec<(f64, Stationarity)>);
+
+/// Bisection for the critical injection rate: the largest I in [lo, hi] at
+/// which `test(I)` says stationary, assuming stationary at `lo` and not at
+/// `hi` (both are tested first; an error if not). Returns (I_c, half-width
+/// of the final bracket, the tested (I, verdict) in order).
+pub fn bisect_ic(
+    mut lo: f64,
+    mut hi: f64,
+    steps: usize,
+    mut test: impl FnMut(f64) -> Result<Stationarity>,
+) -> Result<Bisection> {
+    let mut log = Vec::new();
+    for (i, want) in [(lo, true), (hi, false)] {
+        let s = test(i)?;
+        log.push((i, s));
+        if s.stationary != want {
+            return Err(Error::new(
+                ErrorKind::BadSeries,
+                format!(
+                    "bisection bracket: N(t) at I = {i} is {} but must be {}; widen [lo, hi] or run longer",
+                    if s.stationary { "stationary" } else { "not stationary" },
+                    if want { "stationary" } else { "not stationary" }
+                ),
+            ));
+        }
+    }
+    for _ in 0..steps {
+        let mid = 0.5 * (lo + hi);
+        let s = test(mid)?;
+        log.push((mid, s));
+        if s.stationary {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok((0.5 * (lo + hi), 0.5 * (hi - lo), log))
+}
+
+#[cfg(test)]
+mod trend_tests {
+    use super::*;
+
+    #[test]
+    fn trend_test_and_bisection() {
+        let flat: Vec<(Vec<f64>, Option<u64>)> = (0..4)
+            .map(|r| {
+                (
+                    (0..100).map(|t| 50.0 + ((t * 7 + r) % 5) as f64).collect(),
+                    None,
+                )
+            })
+            .collect();
+        assert!(stationarity(&flat).stationary);
+        let growing: Vec<(Vec<f64>, Option<u64>)> = (0..4)
+            .map(|r| ((0..100).map(|t| t as f64 + (r % 2) as f64).collect(), None))
+            .collect();
+        assert!(!stationarity(&growing).stationary);
+        let clog = vec![(vec![1.0; 8], Some(5))];
+        assert!(!stationarity(&clog).stationary);
+        // a synthetic threshold at 0.37 is found within the bracket
+        let v = |i: f64| -> Result<Stationarity> {
+            Ok(stationarity(if i <= 0.37 { &flat } else { &growing }))
+        };
+        let (ic, err, log) = bisect_ic(0.0, 1.0, 8, v).unwrap();
+        assert!((ic - 0.37).abs() <= err && err < 0.003, "{ic} {err}");
+        assert_eq!(log.len(), 10);
+        assert!(bisect_ic(0.5, 1.0, 3, v).is_err());
+    }
+}

@@ -1,0 +1,378 @@
+//! Parameter sweeps of the density spectrum (PH95 Figs. 8-10): a list of
+//! points, each an ensemble of spectrum runs through the figure's ensemble
+//! runner (saved per run, resumable, shardable with `--shard`), reduced to
+//! alpha and the wave velocity v with their standard errors over runs.
+//!
+//! A run that leaves the model's domain of validity (more rest particles than
+//! sites, or a stuck relocation walk: MODEL.md A4) is recorded as invalid
+//! instead of stopping the sweep, so a sweep over rho can report where the
+//! model ends.
+
+use super::spectra::{bin_spectrum, combine, SpectrumEnsemble, SpectrumRun, SpectrumSetup};
+use super::Params;
+use crate::error::{ErrorKind, Result};
+use crate::run::mean_sem;
+use serde::{Deserialize, Serialize};
+
+/// One point of a sweep.
+#[derive(Debug, Clone)]
+pub struct SweepPoint {
+    /// Unique name of the point (names its saved runs), e.g. `p0.05`.
+    pub label: String,
+    /// The swept parameter value(s), written as the first CSV columns.
+    pub x: Vec<f64>,
+    /// The pipe at this point.
+    pub params: Params,
+}
+
+/// A run's outcome: a spectrum, or the reason the model became undefined.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub enum RunOutcome {
+    /// The run finished; its spectrum and fit.
+    Valid(SpectrumRun),
+    /// The run stopped outside the model's validity (MODEL.md A4): the
+    /// error message (rest particles exceed sites, or a stuck relocation).
+    Invalid(String),
+}
+
+/// The reduced result of one sweep point.
+#[derive(Debug, Clone)]
+pub struct PointResult {
+    /// The point.
+    pub point: SweepPoint,
+    /// Mean over valid runs of the per-run alpha (NaN if none is valid).
+    pub alpha: f64,
+    /// Standard error of that mean (the fit error for a single valid run).
+    pub alpha_err: f64,
+    /// Mean over valid runs of the per-run peak velocity v = L j / (T0 2m).
+    pub v: f64,
+    /// Standard error of that mean (0 for a single valid run).
+    pub v_err: f64,
+    /// Number of valid runs.
+    pub valid: usize,
+    /// Number of runs that left the model's domain of validity.
+    pub invalid: usize,
+    /// The combined ensemble of the valid runs (None if none is valid).
+    pub ensemble: Option<SpectrumEnsemble>,
+}
+
+impl PointResult {
+    /// CSV row: the swept values, then alpha, alpha_err, v, v_err,
+    /// alpha of the mean spectrum, v of its peak, valid and invalid runs.
+    pub fn row(&self) -> Vec<f64> {
+        let mut r = self.point.x.clone();
+        let (a_mean, v_mean) = match &self.ensemble {
+            Some(e) => (e.fit_of_mean.fit.alpha, e.v_peak),
+            None => (f64::NAN, f64::NAN),
+        };
+        r.extend([
+            self.alpha,
+            self.alpha_err,
+            self.v,
+            self.v_err,
+            a_mean,
+            v_mean,
+            self.valid as f64,
+            self.invalid as f64,
+        ]);
+        r
+    }
+}
+
+/// Header of [`PointResult::row`] after the swept columns `x_names`.
+pub fn header<'a>(x_names: &[&'a str]) -> Vec<&'a str> {
+    let mut h = x_names.to_vec();
+    h.extend([
+        "alpha",
+        "alpha_err",
+        "v",
+        "v_err",
+        "alpha_of_mean_spectrum",
+        "v_of_mean_spectrum",
+        "valid_runs",
+        "invalid_runs",
+    ]);
+    h
+}
+
+/// Whether an error means the model is undefined for this run (MODEL.md A4)
+/// rather than a bug or bad input.
+pub fn is_validity_limit(kind: ErrorKind) -> bool {
+    matches!(
+        kind,
+        ErrorKind::RestExceedsSites | ErrorKind::RelocationStuck
+    )
+}
+
+/// One run of a sweep point: the spectrum, or `Invalid` when the model
+/// leaves its domain (other errors propagate).
+pub fn sweep_run(
+    setup: &SpectrumSetup,
+    seed: u64,
+    tick: &(dyn Fn(u64) + Sync),
+) -> Result<RunOutcome> {
+    match bin_spectrum(setup, seed, tick) {
+        Ok(r) => Ok(RunOutcome::Valid(r)),
+        Err(e) if is_validity_limit(e.kind) => Ok(RunOutcome::Invalid(e.message)),
+        Err(e) => Err(e),
+    }
+}
+
+/// Reduce the outcomes of one point.
+pub fn reduce(
+    point: &SweepPoint,
+    setup: &SpectrumSetup,
+    outcomes: Vec<RunOutcome>,
+) -> Result<PointResult> {
+    let mut valid = Vec::new();
+    let mut invalid = 0;
+    for o in outcomes {
+        match o {
+            RunOutcome::Valid(r) => valid.push(r),
+            RunOutcome::Invalid(_) => invalid += 1,
+        }
+    }
+    let n_valid = valid.len();
+    if valid.is_empty() {
+        return Ok(PointResult {
+            point: point.clone(),
+            alpha: f64::NAN,
+            alpha_err: f64::NAN,
+            v: f64::NAN,
+            v_err: f64::NAN,
+            valid: 0,
+            invalid,
+            ensemble: None,
+        });
+    }
+    let vs: Vec<f64> = valid.iter().map(|r| r.v_peak).collect();
+    let (v, v_err) = mean_sem(&vs);
+    let ens = combine(setup, valid)?;
+    Ok(PointResult {
+        point: point.clone(),
+        alpha: ens.alpha,
+        alpha_err: ens.alpha_err,
+        v,
+        v_err,
+        valid: n_valid,
+        invalid,
+        ensemble: Some(ens),
+    })
+}
+
+/// Run every point of a sweep with `runs` runs each through the ensemble
+/// runner of `binary` (one saved ensemble per point, named by its label;
+/// `--shard` honoured). `setup_of(params)` gives the spectrum set-up of a
+/// point (normally [`super::spectra::tier_setup`]). Returns `None` when only
+/// a shard was computed.
+pub fn run_sweep(
+    common: &crate::cli::Common,
+    binary: &str,
+    points: &[SweepPoint],
+    runs: usize,
+    setup_of: impl Fn(Params) -> SpectrumSetup,
+) -> Result<Option<Vec<PointResult>>> {
+    use crate::ensemble::Outcome;
+    let mut out = Vec::new();
+    let mut sharded = false;
+    for (k, point) in points.iter().enumerate() {
+        let setup = setup_of(point.params);
+        eprintln!(
+            "{binary}: point {}/{} ({}), {runs} runs of {} steps",
+            k + 1,
+            points.len(),
+            point.label,
+            setup.steps()
+        );
+        let key = serde_json::json!({"sweep-point": point.label, "spectrum": setup});
+        let ens = common.ensemble(binary, &key, runs)?;
+        match ens.run(setup.steps(), |_, seed, tick| sweep_run(&setup, seed, tick))? {
+            Outcome::Complete(v) => out.push(reduce(point, &setup, v)?),
+            Outcome::ShardDone { shard, runs, dir } => {
+                println!(
+                    "{binary} {}: shard {shard} done, {runs} runs in {}",
+                    point.label,
+                    dir.display()
+                );
+                sharded = true;
+            }
+        }
+    }
+    if sharded {
+        println!(
+            "{binary}: shard done; merge the shard folders with the `merge` binary, then rerun without --shard"
+        );
+        return Ok(None);
+    }
+    Ok(Some(out))
+}
+
+/// Site updates of a sweep: runs x steps x sites over all points.
+pub fn site_updates(
+    points: &[SweepPoint],
+    runs: usize,
+    setup_of: impl Fn(Params) -> SpectrumSetup,
+) -> f64 {
+    points
+        .iter()
+        .map(|p| (runs as u64 * setup_of(p.params).steps() * p.params.sites() as u64) as f64)
+        .sum()
+}
+
+/// Whether `a` exceeds `b` by more than `z` combined standard errors.
+pub fn exceeds(a: (f64, f64), b: (f64, f64), z: f64) -> bool {
+    let e = (a.1 * a.1 + b.1 * b.1).sqrt();
+    a.0.is_finite() && b.0.is_finite() && a.0 - b.0 > z * e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipe::spectra::tier_setup;
+    use crate::pipe::Rules;
+    use crate::run::Tier;
+
+    #[test]
+    fn invalid_runs_are_counted_not_fatal() {
+        let params = Params::default();
+        let setup = tier_setup(Tier::Quick, params, Rules::default());
+        let point = SweepPoint {
+            label: "x".into(),
+            x: vec![1.0],
+            params,
+        };
+        let r = reduce(
+            &point,
+            &setup,
+            vec![
+                RunOutcome::Invalid("rest".into()),
+                RunOutcome::Invalid("rest".into()),
+            ],
+        )
+        .unwrap();
+        assert_eq!((r.valid, r.invalid), (0, 2));
+        assert!(r.alpha.is_nan() && r.ensemble.is_none());
+        assert_eq!(r.row().len(), 1 + 8);
+        assert_eq!(header(&["rho"]).len(), 9);
+    }
+
+    #[test]
+    fn validity_errors_are_classified() {
+        assert!(is_validity_limit(ErrorKind::RestExceedsSites));
+        assert!(is_validity_limit(ErrorKind::RelocationStuck));
+        assert!(!is_validity_limit(ErrorKind::InvalidParameter));
+        assert!(exceeds((1.0, 0.1), (0.0, 0.1), 3.0));
+        assert!(!exceeds((1.0, 0.5), (0.0, 0.5), 3.0));
+    }
+}
+
+/// One curve of a sweep plot: a label and the points, with the index of the
+/// swept value in [`SweepPoint::x`] used as abscissa.
+#[derive(Debug, Clone, Copy)]
+pub struct Curve<'a> {
+    /// Legend label.
+    pub label: &'a str,
+    /// The points of the curve.
+    pub points: &'a [&'a PointResult],
+    /// Which entry of `x` is the abscissa.
+    pub xi: usize,
+}
+
+/// Plot alpha (`<stem>_alpha.png`) and v (`<stem>_v.png`) against the swept
+/// parameter with error bars (one standard error over runs).
+pub fn plot_alpha_v(
+    dir: &std::path::Path,
+    stem: &str,
+    title: &str,
+    xlabel: &str,
+    curves: &[Curve],
+) -> Result<()> {
+    use crate::plot::{errorbar_chart_at, ErrSeries, PALETTE};
+    use plotters::chart::SeriesLabelPosition;
+    for (what, ylabel, name, legend) in [
+        (
+            0,
+            "alpha (mean over runs +- SE)",
+            "alpha",
+            SeriesLabelPosition::UpperLeft,
+        ),
+        (
+            1,
+            "v from the spectral peak, rows/step (mean +- SE)",
+            "v",
+            SeriesLabelPosition::LowerRight,
+        ),
+    ] {
+        let series: Vec<ErrSeries> = curves
+            .iter()
+            .enumerate()
+            .map(|(c, cv)| {
+                let pts = cv
+                    .points
+                    .iter()
+                    .map(|r| {
+                        let x = r.point.x[cv.xi];
+                        if what == 0 {
+                            (x, r.alpha, r.alpha_err)
+                        } else {
+                            (x, r.v, r.v_err)
+                        }
+                    })
+                    .collect();
+                ErrSeries::new(cv.label, pts, PALETTE[c % PALETTE.len()])
+            })
+            .collect();
+        errorbar_chart_at(
+            &dir.join(format!("{stem}_{name}.png")),
+            &format!("{title}: {name}"),
+            xlabel,
+            ylabel,
+            &series,
+            legend,
+        )?;
+    }
+    Ok(())
+}
+
+/// Metrics of a point: `alpha_<label>`, `alpha_<label>_err`, `v_<label>`,
+/// `v_<label>_err`, and `invalid_<label>` when any run was invalid.
+pub fn point_metrics(r: &PointResult, m: &mut std::collections::BTreeMap<String, f64>) {
+    let l = &r.point.label;
+    m.insert(format!("alpha_{l}"), r.alpha);
+    m.insert(format!("alpha_{l}_err"), r.alpha_err);
+    m.insert(format!("v_{l}"), r.v);
+    m.insert(format!("v_{l}_err"), r.v_err);
+    if r.invalid > 0 {
+        m.insert(format!("invalid_runs_{l}"), r.invalid as f64);
+    }
+}
+
+/// Reference values of PH95 Fig. 7's set-ups measured by `waves-fig7`
+/// (quick tier, seed 1, 4 runs, EXPERIMENTS.md): alpha at p = 0 (b = 0.5) and
+/// at b = 0 (p = 0.5), each (value, standard error over runs).
+pub const FIG7_QUICK_ALPHA_P0: (f64, f64) = (-0.5595, 0.0147);
+/// See [`FIG7_QUICK_ALPHA_P0`]: alpha at b = 0, p = 0.5.
+pub const FIG7_QUICK_ALPHA_B0: (f64, f64) = (-1.4494, 0.1264);
+
+/// Check that a sweep point agrees with a `waves-fig7` reference value
+/// within 3 combined standard errors (false-alarm rate ~0.3% for normal
+/// errors; the reference is the quick tier, so at other tiers a change of
+/// alpha with m also shows as a failure).
+pub fn fig7_check(
+    name: &str,
+    r: &PointResult,
+    reference: (f64, f64),
+    what: &str,
+) -> crate::run::Check {
+    let tol = 3.0 * (r.alpha_err.powi(2) + reference.1.powi(2)).sqrt();
+    crate::run::Check::claim(
+        name,
+        r.alpha,
+        r.alpha_err,
+        r.alpha.is_finite() && (r.alpha - reference.0).abs() <= tol,
+        &format!(
+            "internal consistency: alpha at {what} agrees with waves-fig7 ({:.4} +- {:.4}, quick tier, seed 1, 4 runs) within 3 combined SE = {tol:.4}",
+            reference.0, reference.1
+        ),
+    )
+}
