@@ -107,7 +107,7 @@ fn bounds(lines: &[Line], log: bool) -> ((f64, f64), (f64, f64)) {
 /// outside [0.01, 10^5].
 fn tick(v: f64, log: bool) -> String {
     let a = v.abs();
-    if a < 1e-9 {
+    if !log && a < 1e-9 {
         "0".to_string()
     } else if log && !(0.01..1e5).contains(&a) {
         format!("{v:.0e}")
