@@ -7,7 +7,9 @@
 
 use clap::Parser;
 use granular_automata::cli::Common;
-use granular_automata::pipe::claims::{grade, grade_steps, Graded, MatrixSize, Verdict, CLAIMS};
+use granular_automata::pipe::claims::{
+    grade, grade_steps, Graded, MatrixSize, Verdict, CLAIMS, GRADING_VERSION,
+};
 use granular_automata::pipe::Rules;
 use granular_automata::plot::{plot_err, register_fonts, FONT};
 use granular_automata::run::{progress, write_atomic, Check, Output, Summary};
@@ -16,10 +18,13 @@ use serde_json::json;
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-/// The readings graded by default: every named variant of MODEL.md and the
-/// combinations A11 mentions.
+/// The readings graded by default: every named variant of MODEL.md, the
+/// combinations A11 mentions, and `wall-move` (issue 4, session 2) alone and
+/// with each of the others.
 const READINGS: &str = "ph94,any-mover,up-to-rest,ph94+wall-drag,ph94+gravity-first,ph94+rest-up,\
-ph94+wall-drag+gravity-first,any-mover+wall-drag,any-mover+rest-up";
+ph94+wall-drag+gravity-first,any-mover+wall-drag,any-mover+rest-up,ph94+wall-move,\
+ph94+gravity-first+wall-move,ph94+rest-up+wall-move,ph94+gravity-first+rest-up+wall-move,\
+ph94+wall-drag+wall-move,any-mover+wall-move";
 
 #[derive(Parser)]
 #[command(about = "Which reading of the pipe rules reproduces which published claim")]
@@ -65,7 +70,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = Output::new(&args.common.out, "pipe-matrix")?;
     let cache = out.path("variants");
     std::fs::create_dir_all(&cache)?;
-    let key = format!("{}-seed{}-runs{}", tier.name(), args.common.seed, size.runs);
+    let key = format!(
+        "{}-seed{}-runs{}-grading{GRADING_VERSION}",
+        tier.name(),
+        args.common.seed,
+        size.runs
+    );
 
     let start = Instant::now();
     let pb = progress(

@@ -19,12 +19,15 @@ fn all_rules() -> Vec<Rules> {
         for wall_drag in [false, true] {
             for gravity_first in [false, true] {
                 for rest in [RestPlacement::RandomWalk, RestPlacement::RestUp] {
-                    v.push(Rules {
-                        gravity,
-                        wall_drag,
-                        gravity_first,
-                        rest,
-                    });
+                    for wall_move in [false, true] {
+                        v.push(Rules {
+                            gravity,
+                            wall_drag,
+                            gravity_first,
+                            rest,
+                            wall_move,
+                        });
+                    }
                 }
             }
         }
@@ -120,11 +123,13 @@ fn open_pipe_bookkeeping_is_exact_at_every_step() {
             };
             let mut pipe = Pipe::new(params, rules, derive_seed(SEED, k as u64)).unwrap();
             assert_eq!(pipe.particle_count(), 0, "the open pipe starts empty");
+            let mut clogged = false;
             for t in 0..2000 {
                 let before = pipe.particle_count() as i64;
                 let f0 = pipe.flux();
                 if pipe.step().is_err() {
-                    break; // clogged beyond the model's validity
+                    clogged = true; // beyond the model's validity (A4)
+                    break;
                 }
                 let f1 = pipe.flux();
                 let change = pipe.particle_count() as i64 - before;
@@ -135,7 +140,11 @@ fn open_pipe_bookkeeping_is_exact_at_every_step() {
             }
             let f = pipe.flux();
             assert!(f.injected > 0);
-            assert!(f.out_bottom > 0, "{rules}: particles leave at the bottom");
+            // a pipe that clogged early may never have let a particle out
+            assert!(
+                f.out_bottom > 0 || clogged,
+                "{rules} I={inject} p={p} W={w}: particles leave at the bottom"
+            );
         }
     }
 }

@@ -367,6 +367,9 @@ impl Pipe {
         if self.rules.wall_drag {
             self.wall_drag();
         }
+        if self.rules.wall_move {
+            self.wall_move();
+        }
         self.propagate();
         self.time += 1;
         Ok(())
@@ -574,6 +577,43 @@ impl Pipe {
                 let (up, down) = (s & bit(1) != 0, s & bit(4) != 0);
                 if up != down && chance(&mut self.rng, self.b_t) {
                     self.cells[i] = s ^ (bit(1) | bit(4));
+                }
+            }
+        }
+    }
+
+    /// `wall-move` (A6 variant): the A6 reflection of particles heading into a
+    /// wall is applied before propagation, so they move along the reflected
+    /// velocity this step, whenever the reflected channels are empty (else
+    /// propagation reflects them in place, as in A6). Same draws as A6: one
+    /// per lone particle (bounce-back with probability b), none for a pair.
+    fn wall_move(&mut self) {
+        let w = self.params.width;
+        if w == 1 {
+            return;
+        }
+        // (column, the two channels into the wall, their bounce-back and
+        // specular targets)
+        let walls = [(0, [2, 3], [5, 6], [6, 5]), (w - 1, [6, 5], [3, 2], [2, 3])];
+        for (x, into, bounce, specular) in walls {
+            for y in 0..self.params.length {
+                let i = self.idx(x, y);
+                let s = self.cells[i];
+                let leaving = [s & bit(into[0]) != 0, s & bit(into[1]) != 0];
+                let out = match leaving {
+                    [false, false] => continue,
+                    [true, true] => bit(bounce[0]) | bit(bounce[1]),
+                    _ => {
+                        let k = if leaving[0] { 0 } else { 1 };
+                        if chance(&mut self.rng, self.b_t) {
+                            bit(bounce[k])
+                        } else {
+                            bit(specular[k])
+                        }
+                    }
+                };
+                if s & out == 0 {
+                    self.cells[i] = (s & !(bit(into[0]) | bit(into[1]))) | out;
                 }
             }
         }
@@ -834,6 +874,50 @@ mod tests {
                     "right wall b {b} c {c}"
                 );
             }
+        }
+    }
+
+    /// Where the one particle of a pipe is: (x, y, channel).
+    fn lone(pipe: &Pipe) -> (usize, usize, usize) {
+        let (w, l) = (pipe.params().width, pipe.params().length);
+        let mut found = vec![];
+        for x in 0..w {
+            for y in 0..l {
+                let s = pipe.site(x, y);
+                (1..=6)
+                    .filter(|&c| s & bit(c) != 0)
+                    .for_each(|c| found.push((x, y, c)));
+            }
+        }
+        assert_eq!(found.len(), 1);
+        found[0]
+    }
+
+    #[test]
+    fn a_diagonal_mover_falls_half_a_row_per_step_only_with_wall_move() {
+        // W = 11, b = 0 (specular walls), no gravity: a down-right mover
+        // crosses the pipe and back; its height y + (x mod 2)/2 falls by 1/2
+        // per step with `wall-move`, and by 5 rows per 11 steps without
+        // (each reflection costs a step: the b = 0 peak at v = 5/11).
+        // with wall-move it arrives at the left wall heading into it (3),
+        // without it has been reflected there in place (5)
+        for (rules, steps, fall, c) in [("ph94+wall-move", 40, 20.0, 3), ("ph94", 44, 20.0, 5)] {
+            let p = Params {
+                g: 0.0,
+                b: 0.0,
+                p: 0.0,
+                length: 100,
+                ..tiny(11, 100)
+            };
+            let mut pipe = Pipe::new(p, rules.parse().unwrap(), 1).unwrap();
+            (0..11).for_each(|x| (0..100).for_each(|y| pipe.set_site(x, y, 0)));
+            pipe.set_site(0, 60, bit(5));
+            let height = |(x, y, _): (usize, usize, usize)| y as f64 + (x % 2) as f64 / 2.0;
+            let h0 = height(lone(&pipe));
+            pipe.run(steps).unwrap();
+            let at = lone(&pipe);
+            assert_eq!(h0 - height(at), fall, "{rules}: {at:?}");
+            assert_eq!((at.0, at.2), (0, c), "{rules}: back at the left wall");
         }
     }
 
