@@ -32,7 +32,7 @@ fn default_rules_form_waves_in_a_and_c_only_and_any_mover_fails() {
     for key in ["contrast_a", "contrast_d_err", "s_low_a", "s_low_d_err"] {
         assert!(s["metrics"][key].as_f64().unwrap().is_finite(), "{key}");
     }
-    assert_eq!(s["rules"], "ph94");
+    assert_eq!(s["rules"], "ph94+gravity-first+wall-move");
     for name in [
         "waves_a",
         "waves_b",

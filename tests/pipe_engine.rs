@@ -200,6 +200,23 @@ fn golden_bin_series_of_a_small_run() {
 }
 
 #[test]
+fn golden_bin_series_of_the_default_reading() {
+    // The project's default reading (issue 4), kept in its own snapshot so
+    // that a change of the default shows as a change of this file only.
+    let r = Rules::default();
+    let mut text = format!("rules {r}\n");
+    for row in series(SEED, r) {
+        let v: Vec<String> = row.iter().map(|x| format!("{x:.0}")).collect();
+        text.push_str(&v.join(" "));
+        text.push('\n');
+    }
+    let mut settings = insta::Settings::clone_current();
+    settings.set_snapshot_path("../golden");
+    settings.set_prepend_module_to_snapshot(false);
+    settings.bind(|| insta::assert_snapshot!("pipe_bin_series_default", text));
+}
+
+#[test]
 fn every_parameter_accepts_its_boundaries_and_rejects_values_just_outside() {
     let ok = Params::default();
     let cases: Vec<(&str, Params, bool)> = vec![

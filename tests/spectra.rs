@@ -4,7 +4,10 @@
 //! Tier: `paper` sizes (m = 16384, 2^18 samples per run) with 4 runs instead
 //! of 8: the quick tier (m = 4096) is too noisy to decide alpha against
 //! 1.33 +- 0.02 (measured there 1.233 +- 0.032, EXPERIMENTS.md), while 4 paper
-//! runs take about 30 s on two cores. Tolerances are those of the binaries:
+//! runs take about 30 s on two cores. (These tiers were fixed in session 1
+//! for the `ph94` reading; the default changed to
+//! `ph94+gravity-first+wall-move` in session 2, issue 4, and the tiers were
+//! kept.) Tolerances are those of the binaries:
 //! |measured - published| <= 2 sqrt(SE_runs^2 + published error^2), SE_runs the
 //! standard error over the 4 runs (a false-alarm rate of about 5% for a
 //! normally distributed mean; the seeds are fixed, so the test is
@@ -32,9 +35,13 @@ fn fig2_alpha_and_peak_velocity_agree_with_ph94_and_wrong_readings_fail() {
         metric(&s, "alpha_err")
     );
     assert!(check(&s, "v_peak"), "v_peak = {}", metric(&s, "v_peak"));
-    // the peak is the paper's j = 596 within two bins
+    // Known discrepancy, pinned: the peak of the mean spectrum sits at
+    // j = 586 (v = 0.393; 8 runs: 587), not at the paper's 596 (v = 0.40; the
+    // `ph94` reading gives 597). Pinned within 6 bins, three times the spread
+    // of the single runs' peaks (583-590 in 7 of 8 runs at the paper tier,
+    // EXPERIMENTS.md).
     assert!(
-        (metric(&s, "j_peak") - 596.0).abs() <= 8.0,
+        (metric(&s, "j_peak") - 586.0).abs() <= 6.0,
         "j_peak = {}",
         metric(&s, "j_peak")
     );
@@ -99,8 +106,8 @@ fn fig7_spectra_are_clearly_flatter_than_the_dissipative_one() {
             "alpha_{case}: the known discrepancy is reported"
         );
     }
-    // measured at the quick tier, seed 1 (EXPERIMENTS.md)
-    let pinned = [("alpha_p0", -0.5595, 0.0147), ("alpha_b0", -1.4494, 0.1264)];
+    // measured at the quick tier, seed 1, default reading (EXPERIMENTS.md)
+    let pinned = [("alpha_p0", -0.6019, 0.0217), ("alpha_b0", -3.0229, 0.0966)];
     for (name, value, err) in pinned {
         let x = metric(&s, name);
         assert!(
@@ -108,6 +115,24 @@ fn fig7_spectra_are_clearly_flatter_than_the_dissipative_one() {
             "{name} = {x}, pinned {value} +- 3 x {err}"
         );
     }
-    // b = 0: no peak at v = 1/2 (known discrepancy)
-    assert!(!check(&s, "v_peak_b0"));
+    // b = 0: the peak at v = 1/2 exactly is reproduced by the default
+    // reading (`wall-move`) ...
+    assert!(
+        check(&s, "v_peak_b0"),
+        "v_peak_b0 = {}",
+        metric(&s, "v_peak_b0")
+    );
+    // ... and not by the MODEL.md reading `ph94`, whose wall reflections
+    // cost a step: its diagonal movers circle at v = 5/11 = 0.4545
+    let w = run(
+        "waves-fig7",
+        env!("CARGO_BIN_EXE_waves-fig7"),
+        &["--tier", "quick", "--seed", "1", "--rules", "ph94"],
+        "fig7-ph94",
+    );
+    assert!(
+        !check(&w, "v_peak_b0"),
+        "ph94 v_peak_b0 = {} must fail",
+        metric(&w, "v_peak_b0")
+    );
 }

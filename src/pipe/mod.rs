@@ -824,7 +824,7 @@ mod tests {
                     g: 0.0,
                     ..tiny(4, 6)
                 };
-                let mut pipe = Pipe::new(p, Rules::default(), 1).unwrap();
+                let mut pipe = Pipe::new(p, Rules::MODEL_MD, 1).unwrap();
                 for xx in 0..4 {
                     for yy in 0..6 {
                         pipe.set_site(xx, yy, 0);
@@ -848,7 +848,7 @@ mod tests {
                     b,
                     ..tiny(3, 4)
                 };
-                let mut pipe = Pipe::new(p, Rules::default(), 1).unwrap();
+                let mut pipe = Pipe::new(p, Rules::MODEL_MD, 1).unwrap();
                 (0..3).for_each(|x| (0..4).for_each(|y| pipe.set_site(x, y, 0)));
                 pipe.set_site(0, 1, bit(c));
                 pipe.step().unwrap();
@@ -864,7 +864,7 @@ mod tests {
                     b,
                     ..tiny(3, 4)
                 };
-                let mut pipe = Pipe::new(p, Rules::default(), 1).unwrap();
+                let mut pipe = Pipe::new(p, Rules::MODEL_MD, 1).unwrap();
                 (0..3).for_each(|x| (0..4).for_each(|y| pipe.set_site(x, y, 0)));
                 pipe.set_site(2, 1, bit(c));
                 pipe.step().unwrap();

@@ -3,13 +3,19 @@
 //! of the code: the engine builds its tables from it once.
 //!
 //! A rule set is written as names joined by `+`, e.g. `ph94+wall-drag` or
-//! `any-mover+gravity-first`; `default` is the MODEL.md default reading.
+//! `any-mover+gravity-first`. `ph94` alone is the MODEL.md default reading
+//! (A2-A6 as written); `default` is the project's default, the reading that
+//! reproduces the most published claims in the reproduction matrix (issue 4,
+//! EXPERIMENTS.md "Reproducing Peng & Herrmann: which reading"):
+//! `ph94+gravity-first+wall-move`.
 //!
 //! ```
 //! use granular_automata::pipe::Rules;
 //! let r: Rules = "any-mover+rest-up".parse().unwrap();
 //! assert_eq!(r.to_string(), "any-mover+rest-up");
 //! assert_eq!("default".parse::<Rules>().unwrap(), Rules::default());
+//! assert_eq!(Rules::default().to_string(), "ph94+gravity-first+wall-move");
+//! assert_eq!(Rules::MODEL_MD.to_string(), "ph94");
 //! assert!("ph96".parse::<Rules>().is_err());
 //! ```
 
@@ -73,23 +79,38 @@ pub struct Rules {
     pub wall_move: bool,
 }
 
+impl Rules {
+    /// The MODEL.md default reading (`ph94`): [PH94] gravity, no wall drag,
+    /// collision before gravity, random-walk relocation, A6 walls.
+    pub const MODEL_MD: Rules = Rules {
+        gravity: GravityWording::Ph94,
+        wall_drag: false,
+        gravity_first: false,
+        rest: RestPlacement::RandomWalk,
+        wall_move: false,
+    };
+}
+
 impl Default for Rules {
-    /// The MODEL.md default reading: [PH94] gravity, no wall drag, collision
-    /// before gravity, random-walk relocation.
+    /// The project's default (`default`, issue 4): `ph94+gravity-first+wall-move`,
+    /// chosen by the paper-tier reproduction matrix (EXPERIMENTS.md): it
+    /// reproduces PH94 Fig. 1 (all four panels), alpha of PH94 Fig. 2 and the
+    /// b = 0 peak at v = 1/2 of PH95 Fig. 7, one claim more than `ph94`.
     fn default() -> Self {
         Rules {
-            gravity: GravityWording::Ph94,
-            wall_drag: false,
-            gravity_first: false,
-            rest: RestPlacement::RandomWalk,
-            wall_move: false,
+            gravity_first: true,
+            wall_move: true,
+            ..Rules::MODEL_MD
         }
     }
 }
 
 /// Every name understood by [`Rules::from_str`], with its meaning.
 pub const RULE_NAMES: [(&str, &str); 8] = [
-    ("default", "the MODEL.md default reading (= ph94)"),
+    (
+        "default",
+        "the project's default reading, ph94+gravity-first+wall-move (issue 4)",
+    ),
     (
         "ph94",
         "gravity turns movers only at sites holding a rest particle [PH94]",
@@ -138,11 +159,17 @@ impl FromStr for Rules {
     type Err = Error;
 
     fn from_str(s: &str) -> Result<Self, Error> {
-        let mut r = Rules::default();
+        let mut r = Rules::MODEL_MD;
         let mut gravity_named = false;
         for part in s.split('+').map(str::trim) {
             let g = match part {
-                "default" | "ph94" => Some(GravityWording::Ph94),
+                "default" => {
+                    let d = Rules::default();
+                    r.gravity_first |= d.gravity_first;
+                    r.wall_move |= d.wall_move;
+                    Some(d.gravity)
+                }
+                "ph94" => Some(GravityWording::Ph94),
                 "any-mover" => Some(GravityWording::AnyMover),
                 "up-to-rest" => Some(GravityWording::UpToRest),
                 "wall-drag" => {
