@@ -7,14 +7,14 @@
 
 use clap::Parser;
 use granular_automata::cli::{Common, PipeRules};
-use granular_automata::pipe::record::{fig1_panels, Bands, Record};
-use granular_automata::pipe::Params;
-use granular_automata::plot::{plot_err, register_fonts, SpaceTime};
-use granular_automata::run::{derive_seed, ensemble, mean_sem, progress, Check, Output, Summary};
+use granular_automata::pipe::record::{fig1_panels, fig1_pipe, Bands, Record};
+use granular_automata::plot::{plot_err, png, value_range, SpaceTime};
+use granular_automata::run::{derive_seed, ensemble, mean_sem_by, progress, stat_metrics};
+use granular_automata::run::{Check, Figure};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde_json::json;
 use std::collections::BTreeMap;
-use std::time::Instant;
 
 #[derive(Parser)]
 #[command(about = "PH94 Fig. 1: density waves in a pipe (space-time plots, panels a-d)")]
@@ -33,30 +33,20 @@ const PANELS: [&str; 4] = ["a", "b", "c", "d"];
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
-    args.common.reject_shard("fig1")?;
-    let tier = args.common.tier;
+    let c = &args.common;
+    c.reject_shard("fig1")?;
     let rules = args.rules.parse()?;
+    let fig = Figure::start("fig1", "PH94 Fig. 1", c.tier, rules.to_string());
     // Bands need the full length and duration (shorter pipes or runs do not form
     // them reliably, EXPERIMENTS.md), so the tiers differ in the number of runs.
-    let (length, steps) = (2200, 40000);
-    let runs = args.common.runs_or(4, 8, 16);
+    let steps = 40000;
+    let runs = c.runs_or(4, 8, 16);
     let every = 80;
-    let base = Params {
-        length,
-        width: 11,
-        rho: 1.0,
-        p: 0.1,
-        g: 0.5,
-        b: 0.5,
-        ..Params::default()
-    };
+    let base = fig1_pipe();
     base.validate()?;
-    let out = Output::new(&args.common.out, "fig1")?;
-    let seeds: Vec<u64> = (0..runs as u64)
-        .map(|i| derive_seed(args.common.seed, i))
-        .collect();
+    let out = fig.output(&c.out)?;
+    let seeds: Vec<u64> = (0..runs as u64).map(|i| derive_seed(c.seed, i)).collect();
 
-    let start = Instant::now();
     let pb = progress(runs as u64 * 4 * steps, "fig1 steps");
     let tick = |n: u64| pb.inc(n);
     let results = ensemble(runs, |i| {
@@ -64,53 +54,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     });
     pb.finish();
     let results: Vec<Vec<(Record, Bands)>> = results.into_iter().collect::<Result<_, _>>()?;
-    let wall = start.elapsed().as_secs_f64();
 
     // analyse: mean and standard error over seeds, per panel
     let mut metrics = BTreeMap::new();
     let mut stat = BTreeMap::new();
     let mut rows = Vec::new();
     for (k, name) in PANELS.iter().enumerate() {
-        let c: Vec<f64> = results.iter().map(|r| r[k].1.contrast).collect();
-        let s: Vec<f64> = results.iter().map(|r| r[k].1.s_low).collect();
-        let (cm, ce) = mean_sem(&c);
-        let (sm, se) = mean_sem(&s);
-        metrics.insert(format!("contrast_{name}"), cm);
-        metrics.insert(format!("contrast_{name}_err"), ce);
-        metrics.insert(format!("s_low_{name}"), sm);
-        metrics.insert(format!("s_low_{name}_err"), se);
-        stat.insert(*name, (sm, se));
-        for (i, r) in results.iter().enumerate() {
-            rows.push(vec![
-                k as f64,
-                seeds[i] as f64,
-                r[k].1.contrast,
-                r[k].1.s_low,
-            ]);
+        let s_low = mean_sem_by(&results, |r| r[k].1.s_low);
+        metrics.extend(stat_metrics([
+            (
+                format!("contrast_{name}"),
+                mean_sem_by(&results, |r| r[k].1.contrast),
+            ),
+            (format!("s_low_{name}"), s_low),
+        ]));
+        stat.insert(*name, s_low);
+        for (r, &seed) in results.iter().zip(&seeds) {
+            rows.push(vec![k as f64, seed as f64, r[k].1.contrast, r[k].1.s_low]);
         }
     }
-    out.write_csv(
-        "panel_stats.csv",
-        &["panel(0=a..3=d)", "seed", "contrast", "s_low"],
-        &rows,
-    )?;
+    let header = ["panel(0=a..3=d)", "seed", "contrast", "s_low"];
+    out.write_csv("panel_stats.csv", &header, &rows)?;
     for (k, name) in PANELS.iter().enumerate() {
         let rec = &results[0][k].0;
-        let header: Vec<String> = std::iter::once("t".to_string())
-            .chain((0..rec.n[0].len()).map(|i| format!("n{i}")))
-            .collect();
-        let header: Vec<&str> = header.iter().map(String::as_str).collect();
-        let rows: Vec<Vec<f64>> = rec
-            .n
-            .iter()
-            .enumerate()
-            .map(|(t, v)| {
-                std::iter::once(rec.time(t) as f64)
-                    .chain(v.iter().copied())
-                    .collect()
-            })
-            .collect();
-        out.write_csv(&format!("bins_{name}.csv"), &header, &rows)?;
+        out.write_csv(
+            &format!("bins_{name}.csv"),
+            &rec.csv_header(),
+            &rec.csv_rows(),
+        )?;
     }
 
     // plot: one PNG per panel and the four panels together (first seed)
@@ -120,23 +91,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "(c) (b) continued with p = 0.1",
         "(d) p = 0.1, b = 0",
     ];
-    register_fonts();
-    let draw = |area: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
-                k: usize|
-     -> Result<(), Box<dyn std::error::Error>> {
-        let rec = &results[0][k].0;
-        let lo = rec
-            .n
-            .iter()
-            .flatten()
-            .cloned()
-            .fold(f64::INFINITY, f64::min);
-        let hi = rec
-            .n
-            .iter()
-            .flatten()
-            .cloned()
-            .fold(f64::NEG_INFINITY, f64::max);
+    let draw = |area: &DrawingArea<BitMapBackend, Shift>, k: usize| {
+        let (rec, bands) = &results[0][k];
+        let (lo, hi) = value_range(&rec.n);
         let st = SpaceTime {
             values: &rec.n,
             white: lo,
@@ -147,28 +104,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             time_right_to_left: false,
             bottom_at_bottom: true,
         };
-        let title = format!(
-            "PH94 Fig. 1{} (n_i: white {lo:.0}, black {hi:.0}; S_low = {:.2})",
-            titles[k], results[0][k].1.s_low
-        );
-        st.draw(area, &title)?;
-        Ok(())
+        let (t, s) = (titles[k], bands.s_low);
+        st.draw(
+            area,
+            &format!("PH94 Fig. 1{t} (n_i: white {lo:.0}, black {hi:.0}; S_low = {s:.2})"),
+        )
     };
     for (k, name) in PANELS.iter().enumerate() {
-        let path = out.path(&format!("fig1_{name}.png"));
-        let root = BitMapBackend::new(&path, (1100, 650)).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_err)?;
-        draw(&root, k)?;
-        root.present().map_err(plot_err)?;
+        png(
+            &out.path(&format!("fig1_{name}.png")),
+            (1100, 650),
+            |root| draw(root, k),
+        )?;
     }
-    let path = out.path("fig1.png");
-    let root = BitMapBackend::new(&path, (1800, 1150)).into_drawing_area();
-    root.fill(&WHITE).map_err(plot_err)?;
-    let root = root.titled(&format!("PH94 Fig. 1: bin densities, L = {length}, W = 11, rho = 1, g = 0.5, rules {rules}, seed {}", seeds[0]), ("sans-serif", 24)).map_err(plot_err)?;
-    for (k, area) in root.split_evenly((2, 2)).iter().enumerate() {
-        draw(area, k)?;
-    }
-    root.present().map_err(plot_err)?;
+    png(&out.path("fig1.png"), (1800, 1150), |root| {
+        let title = format!(
+            "PH94 Fig. 1: bin densities, L = {}, W = 11, rho = 1, g = 0.5, rules {rules}, seed {}",
+            base.length, seeds[0]
+        );
+        let root = root.titled(&title, ("sans-serif", 24)).map_err(plot_err)?;
+        for (k, area) in root.split_evenly((2, 2)).iter().enumerate() {
+            draw(area, k)?;
+        }
+        Ok(())
+    })?;
 
     // compare with the published (qualitative) claims
     let waves = |n: &str| stat[n].0 - 2.0 * stat[n].1 > WAVE_THRESHOLD;
@@ -204,18 +163,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &format!("s_low_{x} - s_low_{y} > 2 SE"),
         ));
     }
-    let summary = Summary {
-        figure: "fig1".into(),
-        paper: "PH94 Fig. 1".into(),
-        tier,
-        seeds: seeds.clone(),
-        params: json!({"L": length, "W": 11, "rho": 1.0, "g": 0.5, "b": [0.5, 0.5, 0.5, 0.0], "p": [0.1, 0.0, 0.1, 0.1], "steps": steps, "every": every, "bin": base.bin}),
-        rules: rules.to_string(),
-        wall_seconds: wall,
-        site_updates: (runs as u64 * 4 * steps * base.sites() as u64) as f64,
-        metrics,
-        checks,
-    };
-    out.finish(&summary)?;
+    let params = json!({"L": base.length, "W": 11, "rho": 1.0, "g": 0.5, "b": [0.5, 0.5, 0.5, 0.0], "p": [0.1, 0.0, 0.1, 0.1], "steps": steps, "every": every, "bin": base.bin});
+    let site_updates = (runs as u64 * 4 * steps * base.sites() as u64) as f64;
+    fig.finish(&out, seeds, params, site_updates, metrics, checks)?;
     Ok(())
 }

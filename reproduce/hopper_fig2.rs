@@ -4,62 +4,38 @@
 //! `cargo run --release --bin hopper-fig2 -- --tier quick`
 
 use clap::Parser;
-use granular_automata::hopper::experiment::{core_rows, run, Plan, Record};
-use granular_automata::hopper::observables::correlation_length;
+use granular_automata::cli::Common;
+use granular_automata::hopper::experiment::{core_rows, run_cases, Case, Plan, FIG2_MEASURES};
 use granular_automata::hopper::picture::{draw_snapshots, Panel};
-use granular_automata::hopper::{Aligned, Hopper, HopperParams};
-use granular_automata::plot::{line_chart, Line, PALETTE};
-use granular_automata::run::{
-    derive_seed, ensemble, mean_sem, progress, Check, Output, Summary, Tier,
-};
+use granular_automata::hopper::{Hopper, HopperParams};
+use granular_automata::plot::{line_chart, points, Line, PALETTE};
+use granular_automata::run::{derive_seed, mean_sem_at, mean_sem_by, stat_metrics, Check, Figure};
 use std::collections::BTreeMap;
-use std::path::PathBuf;
-use std::time::Instant;
 
 #[derive(Parser, Debug)]
 #[command(about = "BB90 Fig. 2: hopper filling and emptying, beta = 0 vs beta = 1")]
 struct Args {
-    /// quick (seconds, small hopper), standard or paper (174 x 129 hopper).
-    #[arg(long, value_enum, default_value = "quick")]
-    tier: Tier,
-    /// Base seed; run r uses derive_seed(seed, r).
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Runs per case averaged in the metrics (snapshots show run 0).
-    #[arg(long)]
-    runs: Option<usize>,
-    /// Output folder.
-    #[arg(long, default_value = "results")]
-    out: PathBuf,
+    /// quick: a small hopper; standard and paper: 174 x 129. `--runs`: runs
+    /// per case averaged in the metrics (snapshots show run 0).
+    #[command(flatten)]
+    common: Common,
 }
 
-/// The three cases: (key, caption, beta, aligned).
-const CASES: [(&str, &str, f64, Aligned); 3] = [
-    ("beta0", "beta = 0", 0.0, Aligned::AlongVelocity),
-    (
-        "beta1_along",
-        "beta = 1, aligned = along-velocity",
-        1.0,
-        Aligned::AlongVelocity,
-    ),
-    (
-        "beta1_same",
-        "beta = 1, aligned = same-orientation",
-        1.0,
-        Aligned::SameOrientation,
-    ),
-];
+/// The three cases.
+const CASES: [Case; 3] = [Case::BETA0, Case::BETA1_ALONG, Case::BETA1_SAME];
 
 fn main() -> granular_automata::Result<()> {
     let args = Args::parse();
-    let start = Instant::now();
-    let tier = args.tier;
-    let runs = args.runs.unwrap_or(tier.pick(2, 4, 8)).max(1);
+    let c = &args.common;
+    c.reject_shard("hopper-fig2")?;
+    let tier = c.tier;
+    let runs = c.runs_or(2, 4, 8);
     let base = tier.pick(
         HopperParams::quick(),
         HopperParams::default(),
         HopperParams::default(),
     );
+    let fig = Figure::start("hopper-fig2", "BB90 Fig. 2", tier, base.rules());
     let snaps: Vec<u64> = tier.pick(
         vec![100, 300, 600, 900],
         vec![250, 1000, 2000, 3000],
@@ -69,129 +45,33 @@ fn main() -> granular_automata::Result<()> {
     // the quick hopper is short: at 85% the rain heap touches the lid of the
     // lattice, whose rays read as dense and hold an arch; fill to 70% instead
     plan.fill_fraction = tier.pick(0.7, 0.85, 0.85);
-    let out = Output::new(&args.out, "hopper-fig2")?;
-    let seeds: Vec<u64> = (0..runs as u64)
-        .map(|r| derive_seed(args.seed, r))
-        .collect();
-
-    let pb = progress((CASES.len() * runs) as u64, "hopper runs");
-    let jobs: Vec<(usize, usize)> = (0..CASES.len())
-        .flat_map(|c| (0..runs).map(move |r| (c, r)))
-        .collect();
-    let results = ensemble(jobs.len(), |j| {
-        let (c, r) = jobs[j];
-        let mut p = base;
-        p.energy.beta = CASES[c].2;
-        p.energy.aligned = CASES[c].3;
-        let rec = run(p, seeds[r], &plan);
-        pb.inc(1);
-        rec
-    });
-    pb.finish();
-    let mut recs: Vec<Vec<Record>> = (0..CASES.len()).map(|_| Vec::new()).collect();
-    for (j, rec) in results.into_iter().enumerate() {
-        recs[jobs[j].0].push(rec?);
-    }
+    let out = fig.output(&c.out)?;
+    let seeds: Vec<u64> = (0..runs as u64).map(|r| derive_seed(c.seed, r)).collect();
+    let recs = run_cases(base, &CASES, &seeds, &plan, c.thread_count())?;
     let probe = Hopper::new(base, 0)?;
     let geom = probe.geometry().clone();
     let rows = core_rows(&probe);
 
-    // metrics
-    let mut metrics = BTreeMap::new();
-    let mut stat = |name: String, xs: Vec<f64>| {
-        let (m, e) = mean_sem(&xs);
-        metrics.insert(name.clone(), m);
-        metrics.insert(format!("{name}_err"), e);
-        (m, e)
-    };
+    // metrics: per case, mean and standard error over runs
     let mut m = BTreeMap::new();
-    let mut site_updates = 0.0;
-    for (c, (key, ..)) in CASES.iter().enumerate() {
-        let rs = &recs[c];
-        site_updates += rs.iter().map(|r| r.site_updates).sum::<f64>();
-        let per = |f: &dyn Fn(&Record) -> f64| rs.iter().map(f).collect::<Vec<f64>>();
-        let mut put =
-            |n: &str, v: Vec<f64>| m.insert(format!("{key}_{n}"), stat(format!("{key}_{n}"), v));
-        put(
-            "core_width_low",
-            per(&|r| r.activity.core_width(&geom, rows[0])),
-        );
-        put(
-            "core_width_high",
-            per(&|r| r.activity.core_width(&geom, rows[1])),
-        );
-        put(
-            "occupancy_core",
-            per(&|r| r.activity.core_and_side_occupancy(&geom, &rows).0),
-        );
-        put(
-            "occupancy_sides",
-            per(&|r| r.activity.core_and_side_occupancy(&geom, &rows).1),
-        );
-        put(
-            "activity_centre",
-            per(&|r| r.activity.centre_and_wall_activity(&geom, rows[0], 2).0),
-        );
-        put(
-            "activity_wall",
-            per(&|r| r.activity.centre_and_wall_activity(&geom, rows[0], 2).1),
-        );
-        put("order_filled", per(&|r| r.g_filled[0]));
-        put("order_half_empty", per(&|r| r.g_half[0]));
-        for d in [2usize, 4, 8, 16] {
-            put(&format!("g{d}_half_empty"), per(&|r| r.g_half[d - 1]));
+    for (case, rs) in CASES.iter().zip(&recs) {
+        for (name, f) in FIG2_MEASURES {
+            let stat = mean_sem_by(rs, |r| f(r, &geom, &rows));
+            m.insert(format!("{}_{name}", case.key), stat);
         }
-        put(
-            "corr_length_filled",
-            per(&|r| correlation_length(&r.g_filled)),
-        );
-        put(
-            "corr_length_half_empty",
-            per(&|r| correlation_length(&r.g_half)),
-        );
-        put(
-            "vertical_fraction_moving",
-            per(&|r| r.vertical_fraction_of_moving()),
-        );
-        put("empty_iterations", per(&|r| r.empty_iterations as f64));
-        put("remaining_grains", per(&|r| r.remaining as f64));
-        put("initial_grains", per(&|r| r.initial as f64));
-        put("fill_iterations", per(&|r| r.fill_iterations as f64));
-        put(
-            "mean_rate",
-            per(&|r| r.removed as f64 / r.empty_iterations.max(1) as f64),
-        );
     }
     let g = |k: &str| m[k];
+    let metrics = stat_metrics(m.iter().map(|(k, v)| (k, *v)));
+    let site_updates = recs
+        .iter()
+        .map(|rs| rs.iter().map(|r| r.site_updates).sum::<f64>())
+        .sum();
 
     // pictures: one per reading of "aligned", run 0
-    let snap_of = |rec: &Record, t: u64| {
-        rec.snapshots
-            .iter()
-            .find(|(s, _)| *s == t)
-            .map(|(_, v)| v.clone())
-            .unwrap_or_else(|| vec![0; geom.kind.len()])
-    };
     let scale = tier.pick(5.0, 2.6, 2.6);
-    for c in [1usize, 2] {
-        let name = CASES[c].3.name();
-        let r0 = &recs[c][0];
-        let mut panels = vec![
-            Panel {
-                caption: format!("(a) beta = 0, iteration {}", snaps[1]),
-                sites: snap_of(&recs[0][0], snaps[1]),
-            },
-            Panel {
-                caption: "(b) filling, beta = 1".to_string(),
-                sites: r0.mid_fill.clone(),
-            },
-        ];
-        for (k, &t) in snaps.iter().enumerate() {
-            panels.push(Panel {
-                caption: format!("({}) beta = 1, iteration {t}", ["c", "d", "e", "f"][k]),
-                sites: snap_of(r0, t),
-            });
-        }
+    for (case, rs) in CASES.iter().zip(&recs).skip(1) {
+        let name = case.aligned.name();
+        let panels = Panel::fig2(&recs[0][0], &rs[0], &snaps);
         draw_snapshots(
             &out.path(&format!("hopper-fig2-{name}.png")),
             &format!(
@@ -205,34 +85,31 @@ fn main() -> granular_automata::Result<()> {
         )?;
     }
     // activity profiles and g(r)
-    let mut lines = Vec::new();
-    let mut rows_csv = Vec::new();
-    for (c, (_, cap, ..)) in CASES.iter().enumerate() {
+    let (mut lines, mut rows_csv, mut glines, mut g_csv) = (vec![], vec![], vec![], vec![]);
+    for (c, (case, rs)) in CASES.iter().zip(&recs).enumerate() {
+        let cap = case.caption;
         for (k, &y) in rows.iter().enumerate() {
-            let p = recs[c][0].activity.profile(&geom, y);
+            let p = rs[0].activity.profile(&geom, y);
+            let centre = geom.centre_column as f64;
+            let pts = p.iter().map(|&(x, a)| (x as f64 - centre, a)).collect();
             lines.push(Line::new(
                 &format!("{cap}, row {y}"),
-                p.iter()
-                    .map(|&(x, a)| (x as f64 - geom.centre_column as f64, a))
-                    .collect(),
+                pts,
                 PALETTE[2 * c + k],
             ));
             for &(x, a) in &p {
-                rows_csv.push(vec![
-                    c as f64,
-                    y as f64,
-                    x as f64,
-                    a,
-                    recs[c][0].activity.occupancy(x, y),
-                ]);
+                let occupancy = rs[0].activity.occupancy(x, y);
+                rows_csv.push(vec![c as f64, y as f64, x as f64, a, occupancy]);
             }
         }
+        let gh: Vec<&[f64]> = rs.iter().map(|r| &r.g_half[..]).collect();
+        let r: Vec<f64> = (1..=plan.rmax).map(|d| d as f64).collect();
+        let mean = mean_sem_at(&gh, plan.rmax).0;
+        glines.push(Line::new(cap, points(&r, &mean), PALETTE[c]).markers());
+        g_csv.extend(r.iter().zip(&mean).map(|(&d, &v)| vec![c as f64, d, v]));
     }
-    out.write_csv(
-        "activity_profiles.csv",
-        &["case", "row", "column", "activity", "occupancy"],
-        &rows_csv,
-    )?;
+    let header = ["case", "row", "column", "activity", "occupancy"];
+    out.write_csv("activity_profiles.csv", &header, &rows_csv)?;
     line_chart(
         &out.path("hopper-fig2-activity.png"),
         "BB90 Fig. 2: time-averaged activity across the hopper (run 0)",
@@ -241,28 +118,6 @@ fn main() -> granular_automata::Result<()> {
         &lines,
         false,
     )?;
-    let mut glines = Vec::new();
-    let mut g_csv = Vec::new();
-    for (c, (_, cap, ..)) in CASES.iter().enumerate() {
-        let gh: Vec<Vec<f64>> = recs[c].iter().map(|r| r.g_half.clone()).collect();
-        let mean: Vec<f64> = (0..plan.rmax)
-            .map(|d| mean_sem(&gh.iter().map(|v| v[d]).collect::<Vec<_>>()).0)
-            .collect();
-        glines.push(
-            Line::new(
-                cap,
-                mean.iter()
-                    .enumerate()
-                    .map(|(d, &v)| ((d + 1) as f64, v))
-                    .collect(),
-                PALETTE[c],
-            )
-            .markers(),
-        );
-        for (d, &v) in mean.iter().enumerate() {
-            g_csv.push(vec![c as f64, (d + 1) as f64, v]);
-        }
-    }
     glines.push(Line::new(
         "random: 1/3",
         vec![(1.0, 1.0 / 3.0), (plan.rmax as f64, 1.0 / 3.0)],
@@ -297,7 +152,7 @@ fn main() -> granular_automata::Result<()> {
     ];
     let params = serde_json::json!({
         "hopper": base,
-        "cases": CASES.iter().map(|(k, _, b, a)| serde_json::json!({"key": k, "beta": b, "aligned": a.name()})).collect::<Vec<_>>(),
+        "cases": CASES.iter().map(Case::json).collect::<Vec<_>>(),
         "runs": runs,
         "fill_fraction": plan.fill_fraction,
         "snapshot_iterations": snaps,
@@ -305,18 +160,5 @@ fn main() -> granular_automata::Result<()> {
         "core_rows": rows,
         "inside_sites": geom.inside,
     });
-    let summary = Summary {
-        figure: "hopper-fig2".into(),
-        paper: "BB90 Fig. 2".into(),
-        tier,
-        seeds,
-        params,
-        rules: base.rules(),
-        wall_seconds: start.elapsed().as_secs_f64(),
-        site_updates,
-        metrics,
-        checks,
-    };
-    out.finish(&summary)?;
-    Ok(())
+    fig.finish(&out, seeds, params, site_updates, metrics, checks)
 }

@@ -1,10 +1,12 @@
 //! Command-line options shared by every figure binary (the output contract
-//! of DEVELOPERS.md): `--tier`, `--seed`, `--runs`, `--rules`, `--out`.
+//! of DEVELOPERS.md): `--tier`, `--seed`, `--runs`, `--rules`, `--out`; and
+//! those of the PH95 wave figures (Figs. 2-5), with `--p`.
 
 use crate::ensemble::{Ensemble, Shard};
+use crate::pipe::record::fig1_pipe;
 use crate::pipe::rules::RULE_NAMES;
-use crate::pipe::Rules;
-use crate::run::Tier;
+use crate::pipe::{Params, Rules};
+use crate::run::{Figure, Tier};
 use std::path::PathBuf;
 
 /// Options every figure binary takes (flatten into its own `clap::Parser`).
@@ -54,7 +56,55 @@ impl PipeRules {
     }
 }
 
+/// The options of the PH95 wave figures (Figs. 2-5): the common ones,
+/// `--rules` and `--p` (flatten into the figure's own `clap::Parser`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct WaveOptions {
+    /// `--tier`, `--seed`, `--runs`, `--out`, `--shard`, `--threads`.
+    #[command(flatten)]
+    pub common: Common,
+    /// `--rules`.
+    #[command(flatten)]
+    pub rules: PipeRules,
+    /// Dissipation p (the figure: 0.1); p = 0 is the wave-free control.
+    #[arg(long, default_value_t = 0.1)]
+    pub p: f64,
+}
+
+impl WaveOptions {
+    /// Start figure `binary` reproducing `paper`: the figure (its clock
+    /// running), the parsed `--rules`, and the common options.
+    pub fn start(
+        &self,
+        binary: &'static str,
+        paper: &'static str,
+    ) -> crate::Result<(Figure, Rules, &Common)> {
+        let rules = self.rules.parse()?;
+        let fig = Figure::start(binary, paper, self.common.tier, rules.to_string());
+        Ok((fig, rules, &self.common))
+    }
+
+    /// The pipe of the PH95 wave figures, `length` rows in bins of `bin`
+    /// rows, with `--p`: otherwise that of PH94 Fig. 1 (W = 11, rho = 1,
+    /// g = b = 0.5, periodic; [`fig1_pipe`]); validated.
+    pub fn pipe(&self, length: usize, bin: usize) -> crate::Result<Params> {
+        let params = Params {
+            length,
+            bin,
+            p: self.p,
+            ..fig1_pipe()
+        };
+        params.validate()?;
+        Ok(params)
+    }
+}
+
 impl Common {
+    /// `--threads` if given, else all cores.
+    pub fn thread_count(&self) -> usize {
+        self.threads.unwrap_or_else(crate::run::threads).max(1)
+    }
+
     /// For figures that keep all their runs in one process: a `--shard` is
     /// an error (never silently ignored).
     pub fn reject_shard(&self, binary: &str) -> crate::Result<()> {

@@ -116,6 +116,25 @@ pub enum Outcome<T> {
     },
 }
 
+impl<T> Outcome<T> {
+    /// The results, in run order, when every run is done. After a shard,
+    /// print where its runs were saved and how to go on (prefixed by
+    /// `label`, e.g. `"L = 128: "`, or empty) and return `None`: the figure
+    /// then stops without analysing.
+    pub fn complete(self, label: &str) -> Option<Vec<T>> {
+        match self {
+            Outcome::Complete(v) => Some(v),
+            Outcome::ShardDone { shard, runs, dir } => {
+                println!(
+                    "{label}shard {shard} done: {runs} runs in {}; merge the shard folders with the `merge` binary, then rerun without --shard",
+                    dir.display()
+                );
+                None
+            }
+        }
+    }
+}
+
 #[derive(Serialize, Deserialize)]
 struct RunFile<T> {
     key: serde_json::Value,

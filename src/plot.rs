@@ -5,6 +5,8 @@
 //! space-time images. Model-specific pictures live beside their model.
 
 use crate::error::{Error, ErrorKind, Result};
+use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 use std::path::Path;
@@ -30,6 +32,82 @@ pub fn register_fonts() {
 /// Turn any plotting error into the library's error type.
 pub fn plot_err<E: std::fmt::Display>(e: E) -> Error {
     Error::new(ErrorKind::Io, format!("plotting failed: {e}"))
+}
+
+/// Draw a PNG of `size` pixels to `path`: a white background, then `draw`.
+pub fn png(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<()>,
+) -> Result<()> {
+    register_fonts();
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE).map_err(plot_err)?;
+    draw(&root)?;
+    root.present().map_err(plot_err)?;
+    Ok(())
+}
+
+/// A chart builder in the house style: `title` in 20 pt, a margin of 15
+/// pixels, 50 pixels for the x labels and `y_labels` for the y labels.
+pub fn chart_builder<'a, 'b, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    y_labels: u32,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut builder = ChartBuilder::on(root);
+    builder
+        .caption(title, (FONT, 20))
+        .margin(15)
+        .x_label_area_size(50)
+        .y_label_area_size(y_labels);
+    builder
+}
+
+/// The legend of a chart's labelled series, in the house style, at `position`.
+pub fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font((FONT, 16))
+        .position(position)
+        .draw()
+        .map_err(plot_err)
+}
+
+/// Axes with tick labels ([`tick`]) and descriptions, in the house style.
+fn draw_axes<DB: DrawingBackend, X, Y>(
+    chart: &mut ChartContext<DB, Cartesian2d<X, Y>>,
+    xlabel: &str,
+    ylabel: &str,
+    log: bool,
+) -> Result<()>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    chart
+        .configure_mesh()
+        .x_label_formatter(&|v: &f64| tick(*v, log))
+        .y_label_formatter(&|v: &f64| tick(*v, log))
+        .x_desc(xlabel)
+        .y_desc(ylabel)
+        .label_style((FONT, 16))
+        .draw()
+        .map_err(plot_err)
+}
+
+/// The smallest and the largest of all `values` (infinities when empty).
+pub fn value_range(values: &[Vec<f64>]) -> (f64, f64) {
+    let all = || values.iter().flatten().copied();
+    (
+        all().fold(f64::INFINITY, f64::min),
+        all().fold(f64::NEG_INFINITY, f64::max),
+    )
 }
 
 /// A named line of a chart.
@@ -61,6 +139,34 @@ impl Line {
         self.markers = true;
         self
     }
+}
+
+/// Points `(x[i], y[i])`.
+pub fn points(x: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
+    x.iter().copied().zip(y.iter().copied()).collect()
+}
+
+/// A mean curve `mean` with standard errors `sem` at `x`: the line
+/// `label` in `color`, then the lines "mean + 1 SE" (orange) and
+/// "mean - 1 SE" (green).
+pub fn mean_se_lines(
+    label: &str,
+    x: &[f64],
+    mean: &[f64],
+    sem: &[f64],
+    color: RGBColor,
+) -> Vec<Line> {
+    let pts = |s: f64| {
+        x.iter()
+            .zip(mean.iter().zip(sem))
+            .map(|(&x, (&m, &e))| (x, m + s * e))
+            .collect()
+    };
+    vec![
+        Line::new(label, pts(0.0), color),
+        Line::new("mean + 1 SE", pts(1.0), PALETTE[4]),
+        Line::new("mean - 1 SE", pts(-1.0), PALETTE[2]),
+    ]
 }
 
 /// A palette of distinguishable colours.
@@ -149,75 +255,62 @@ pub fn line_chart_at(
     log: bool,
     legend: SeriesLabelPosition,
 ) -> Result<()> {
-    register_fonts();
-    let root = BitMapBackend::new(path, (900, 650)).into_drawing_area();
-    root.fill(&WHITE).map_err(plot_err)?;
     let ((x0, x1), (y0, y1)) = bounds(lines, log);
-    macro_rules! draw {
-        ($chart:expr) => {{
-            let mut chart = $chart;
-            chart
-                .configure_mesh()
-                .x_label_formatter(&|v: &f64| tick(*v, log))
-                .y_label_formatter(&|v: &f64| tick(*v, log))
-                .x_desc(xlabel)
-                .y_desc(ylabel)
-                .label_style((FONT, 16))
-                .draw()
+    png(path, (900, 650), |root| {
+        let mut builder = chart_builder(root, title, 80);
+        if log {
+            let chart = builder
+                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
                 .map_err(plot_err)?;
-            for l in lines {
-                let pts: Vec<(f64, f64)> = l
-                    .points
-                    .iter()
-                    .copied()
-                    .filter(|&(x, y)| {
-                        x.is_finite() && y.is_finite() && (!log || (x > 0.0 && y > 0.0))
-                    })
-                    .collect();
-                let color = l.color;
-                if l.markers {
-                    chart
-                        .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
-                        .map_err(plot_err)?
-                        .label(l.label.clone())
-                        .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
-                } else {
-                    chart
-                        .draw_series(LineSeries::new(pts, color.stroke_width(2)))
-                        .map_err(plot_err)?
-                        .label(l.label.clone())
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                        });
-                }
-            }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font((FONT, 16))
-                .position(legend.clone())
-                .draw()
+            draw_lines(chart, xlabel, ylabel, lines, log, legend)
+        } else {
+            let chart = builder
+                .build_cartesian_2d(x0..x1, y0..y1)
                 .map_err(plot_err)?;
-        }};
+            draw_lines(chart, xlabel, ylabel, lines, log, legend)
+        }
+    })
+}
+
+/// The axes, `lines` and legend of [`line_chart_at`] (linear or log-log).
+fn draw_lines<'a, DB: DrawingBackend + 'a, X, Y>(
+    mut chart: ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    xlabel: &str,
+    ylabel: &str,
+    lines: &[Line],
+    log: bool,
+    legend: SeriesLabelPosition,
+) -> Result<()>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    draw_axes(&mut chart, xlabel, ylabel, log)?;
+    for l in lines {
+        let pts: Vec<(f64, f64)> = l
+            .points
+            .iter()
+            .copied()
+            .filter(|&(x, y)| x.is_finite() && y.is_finite() && (!log || (x > 0.0 && y > 0.0)))
+            .collect();
+        let color = l.color;
+        if l.markers {
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                .map_err(plot_err)?
+                .label(l.label.clone())
+                .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
+        } else {
+            chart
+                .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+                .map_err(plot_err)?
+                .label(l.label.clone())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+        }
     }
-    let mut builder = ChartBuilder::on(&root);
-    builder
-        .caption(title, (FONT, 20))
-        .margin(15)
-        .x_label_area_size(50)
-        .y_label_area_size(80);
-    if log {
-        draw!(builder
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(plot_err)?);
-    } else {
-        draw!(builder
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(plot_err)?);
-    }
-    root.present().map_err(plot_err)?;
-    Ok(())
+    draw_legend(&mut chart, legend)
 }
 
 /// A gray-scale image of a field `values[t][i]` (time samples x bins),
@@ -320,6 +413,110 @@ impl SpaceTime<'_> {
     }
 }
 
+/// Horizontal axis of the pipe pictures with gravity from left to right.
+const PIPE_ACROSS: &str =
+    "distance from the top of the pipe, L - y (rows); gravity points left to right";
+
+/// Density profiles of a pipe stacked upward, one per time (PH95 Fig. 2a):
+/// profile j is drawn as `profiles[j].1 - centre` raised by `j * offset`
+/// against the distance from the top of the pipe `x` (gravity from left to
+/// right, x from 0 to `length`), in the colours of the palette, labelled
+/// `profiles[j].0` at its left end.
+pub fn stacked_profiles(
+    path: &Path,
+    title: &str,
+    ylabel: &str,
+    length: f64,
+    x: &[f64],
+    profiles: &[(String, &[f64])],
+    (centre, offset): (f64, f64),
+) -> Result<()> {
+    png(path, (1100, 900), |root| {
+        let top = profiles.len() as f64 * offset;
+        let mut chart = chart_builder(root, title, 80)
+            .build_cartesian_2d(0.0..length, -offset..top)
+            .map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(PIPE_ACROSS)
+            .y_desc(ylabel)
+            .y_label_formatter(&|v| format!("{v:.0}"))
+            .label_style((FONT, 15))
+            .draw()
+            .map_err(plot_err)?;
+        for (j, (label, n)) in profiles.iter().enumerate() {
+            let base = j as f64 * offset;
+            let pts: Vec<(f64, f64)> = x
+                .iter()
+                .zip(*n)
+                .map(|(&x, &v)| (x, base + v - centre))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(
+                    pts,
+                    PALETTE[j % PALETTE.len()].stroke_width(2),
+                ))
+                .map_err(plot_err)?;
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    label.clone(),
+                    (0.01 * length, base + 0.35 * offset),
+                    (FONT, 14),
+                )))
+                .map_err(plot_err)?;
+        }
+        Ok(())
+    })
+}
+
+/// The space-time plot of a pipe's bin densities `values[t][i]` (sample t
+/// at time t * `dt`, bin i of `rows_per_bin` rows from the bottom) with
+/// time upward and gravity from left to right (PH95 Fig. 2b): gray level
+/// linear from white at `white` to black at `black`.
+pub fn space_time_upward(
+    path: &Path,
+    title: &str,
+    values: &[Vec<f64>],
+    dt: u64,
+    rows_per_bin: usize,
+    (white, black): (f64, f64),
+) -> Result<()> {
+    let bins = values.first().map_or(0, |v| v.len());
+    let (l, bin) = ((bins * rows_per_bin) as f64, rows_per_bin as f64);
+    png(path, (1100, 900), |root| {
+        let tmax = (values.len() as u64 * dt) as f64;
+        let mut chart = chart_builder(root, title, 80)
+            .build_cartesian_2d(0.0..l, 0.0..tmax)
+            .map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(PIPE_ACROSS)
+            .y_desc("time t (steps), upward")
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| format!("{v:.0}"))
+            .label_style((FONT, 15))
+            .draw()
+            .map_err(plot_err)?;
+        let span = (black - white).max(1e-9);
+        chart
+            .draw_series(values.iter().enumerate().flat_map(|(t, v)| {
+                v.iter().enumerate().map(move |(i, &x)| {
+                    let g = (255.0 * (1.0 - (x - white) / span)).round() as u8;
+                    let x0 = l - (i as f64 + 1.0) * bin;
+                    let t0 = (t as u64 * dt) as f64;
+                    Rectangle::new(
+                        [(x0, t0), (x0 + bin, t0 + dt as f64)],
+                        RGBColor(g, g, g).filled(),
+                    )
+                })
+            }))
+            .map_err(plot_err)?;
+        Ok(())
+    })
+}
+
 /// A series of points with symmetric vertical error bars: `(x, y, err)`.
 #[derive(Debug, Clone)]
 pub struct ErrSeries {
@@ -370,9 +567,6 @@ pub fn errorbar_chart_at(
     series: &[ErrSeries],
     legend: SeriesLabelPosition,
 ) -> Result<()> {
-    register_fonts();
-    let root = BitMapBackend::new(path, (900, 650)).into_drawing_area();
-    root.fill(&WHITE).map_err(plot_err)?;
     let finite = |s: &ErrSeries| -> Vec<(f64, f64, f64)> {
         s.points
             .iter()
@@ -394,62 +588,43 @@ pub fn errorbar_chart_at(
         .collect();
     let ((x0, x1), (y0, y1)) = bounds(&envelope, false);
     let xpad = 0.04 * (x1 - x0);
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FONT, 20))
-        .margin(15)
-        .x_label_area_size(50)
-        .y_label_area_size(80)
-        .build_cartesian_2d((x0 - xpad)..(x1 + xpad), y0..y1)
-        .map_err(plot_err)?;
-    chart
-        .configure_mesh()
-        .x_label_formatter(&|v: &f64| tick(*v, false))
-        .y_label_formatter(&|v: &f64| tick(*v, false))
-        .x_desc(xlabel)
-        .y_desc(ylabel)
-        .label_style((FONT, 16))
-        .draw()
-        .map_err(plot_err)?;
-    for s in series {
-        let pts = finite(s);
-        let color = s.color;
-        chart
-            .draw_series(LineSeries::new(
-                pts.iter().map(|&(x, y, _)| (x, y)),
-                color.stroke_width(1),
-            ))
+    png(path, (900, 650), |root| {
+        let mut chart = chart_builder(root, title, 80)
+            .build_cartesian_2d((x0 - xpad)..(x1 + xpad), y0..y1)
             .map_err(plot_err)?;
-        chart
-            .draw_series(pts.iter().map(|&(x, y, e)| {
-                PathElement::new(vec![(x, y - e), (x, y + e)], color.stroke_width(2))
-            }))
-            .map_err(plot_err)?;
-        // caps: short horizontal strokes at both ends, 1.5% of the x range
-        let cap = 0.015 * (x1 - x0 + 2.0 * xpad);
-        chart
-            .draw_series(pts.iter().flat_map(|&(x, y, e)| {
-                [y - e, y + e].map(|yy| {
-                    PathElement::new(vec![(x - cap, yy), (x + cap, yy)], color.stroke_width(2))
-                })
-            }))
-            .map_err(plot_err)?;
-        chart
-            .draw_series(
-                pts.iter()
-                    .map(|&(x, y, _)| Circle::new((x, y), 4, color.filled())),
-            )
-            .map_err(plot_err)?
-            .label(s.label.clone())
-            .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 16))
-        .position(legend)
-        .draw()
-        .map_err(plot_err)?;
-    root.present().map_err(plot_err)?;
-    Ok(())
+        draw_axes(&mut chart, xlabel, ylabel, false)?;
+        for s in series {
+            let pts = finite(s);
+            let color = s.color;
+            chart
+                .draw_series(LineSeries::new(
+                    pts.iter().map(|&(x, y, _)| (x, y)),
+                    color.stroke_width(1),
+                ))
+                .map_err(plot_err)?;
+            chart
+                .draw_series(pts.iter().map(|&(x, y, e)| {
+                    PathElement::new(vec![(x, y - e), (x, y + e)], color.stroke_width(2))
+                }))
+                .map_err(plot_err)?;
+            // caps: short horizontal strokes at both ends, 1.5% of the x range
+            let cap = 0.015 * (x1 - x0 + 2.0 * xpad);
+            chart
+                .draw_series(pts.iter().flat_map(|&(x, y, e)| {
+                    [y - e, y + e].map(|yy| {
+                        PathElement::new(vec![(x - cap, yy), (x + cap, yy)], color.stroke_width(2))
+                    })
+                }))
+                .map_err(plot_err)?;
+            chart
+                .draw_series(
+                    pts.iter()
+                        .map(|&(x, y, _)| Circle::new((x, y), 4, color.filled())),
+                )
+                .map_err(plot_err)?
+                .label(s.label.clone())
+                .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
+        }
+        draw_legend(&mut chart, legend)
+    })
 }

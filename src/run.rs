@@ -11,6 +11,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
+use std::time::Instant;
 
 /// How much a figure computes: `quick` (seconds, for tests), `standard`
 /// (minutes) or `paper` (the published sizes).
@@ -229,6 +230,90 @@ pub struct Summary {
     pub checks: Vec<Check>,
 }
 
+/// A figure binary from start to summary: created first thing in `main`,
+/// it names the output folder and fills in the fixed fields of the
+/// [`Summary`] (figure, paper, tier, rules, and the wall-clock time since
+/// its creation).
+#[derive(Debug, Clone)]
+pub struct Figure {
+    /// Binary name, e.g. `waves-fig2`; also its output folder.
+    pub binary: &'static str,
+    /// Paper and figure, e.g. `PH95 Fig. 2`.
+    pub paper: &'static str,
+    /// Tier the figure runs at.
+    pub tier: Tier,
+    /// Rule variant(s), as printed by the model.
+    pub rules: String,
+    start: Instant,
+}
+
+impl Figure {
+    /// Start the clock of figure `binary` reproducing `paper`.
+    pub fn start(binary: &'static str, paper: &'static str, tier: Tier, rules: String) -> Self {
+        Figure {
+            binary,
+            paper,
+            tier,
+            rules,
+            start: Instant::now(),
+        }
+    }
+
+    /// Create (if needed) the output folder `out/<binary>/`.
+    pub fn output(&self, out: &Path) -> Result<Output> {
+        Output::new(out, self.binary)
+    }
+
+    /// Write `summary.json` into `out` with the results of the runs with
+    /// `seeds` (see [`Output::finish`]).
+    pub fn finish(
+        &self,
+        out: &Output,
+        seeds: Vec<u64>,
+        params: serde_json::Value,
+        site_updates: f64,
+        metrics: BTreeMap<String, f64>,
+        checks: Vec<Check>,
+    ) -> Result<()> {
+        out.finish(&Summary {
+            figure: self.binary.into(),
+            paper: self.paper.into(),
+            tier: self.tier,
+            seeds,
+            params,
+            rules: self.rules.clone(),
+            wall_seconds: self.start.elapsed().as_secs_f64(),
+            site_updates,
+            metrics,
+            checks,
+        })?;
+        Ok(())
+    }
+}
+
+/// Metrics from `(name, value)` pairs.
+pub fn metrics_of<S: Into<String>>(
+    values: impl IntoIterator<Item = (S, f64)>,
+) -> BTreeMap<String, f64> {
+    values.into_iter().map(|(k, v)| (k.into(), v)).collect()
+}
+
+/// Metrics from `(name, (mean, standard error))` pairs: `name` holds the
+/// mean and `name_err` the standard error.
+pub fn stat_metrics<S: AsRef<str>>(
+    stats: impl IntoIterator<Item = (S, (f64, f64))>,
+) -> BTreeMap<String, f64> {
+    stats
+        .into_iter()
+        .flat_map(|(k, (m, e))| {
+            [
+                (k.as_ref().to_string(), m),
+                (format!("{}_err", k.as_ref()), e),
+            ]
+        })
+        .collect()
+}
+
 /// The output folder of one figure binary: `DIR/<binary>/`.
 #[derive(Debug, Clone)]
 pub struct Output {
@@ -262,9 +347,15 @@ impl Output {
     }
 
     /// Write a CSV file with a header line and rows of numbers.
-    pub fn write_csv(&self, name: &str, header: &[&str], rows: &[Vec<f64>]) -> Result<PathBuf> {
+    pub fn write_csv<S: AsRef<str>>(
+        &self,
+        name: &str,
+        header: &[S],
+        rows: &[Vec<f64>],
+    ) -> Result<PathBuf> {
         let path = self.path(name);
         let mut s = String::new();
+        let header: Vec<&str> = header.iter().map(AsRef::as_ref).collect();
         s.push_str(&header.join(","));
         s.push('\n');
         for r in rows {
@@ -274,6 +365,38 @@ impl Output {
         }
         write_atomic(&path, s.as_bytes())?;
         Ok(path)
+    }
+
+    /// Write a CSV file of one row per run: its seed, then `row(result)`,
+    /// under `header` (which names the seed column too).
+    pub fn write_runs<T>(
+        &self,
+        name: &str,
+        header: &[&str],
+        seeds: &[u64],
+        results: &[T],
+        row: impl Fn(&T) -> Vec<f64>,
+    ) -> Result<PathBuf> {
+        let rows: Vec<Vec<f64>> = results
+            .iter()
+            .zip(seeds)
+            .map(|(r, &s)| std::iter::once(s as f64).chain(row(r)).collect())
+            .collect();
+        self.write_csv(name, header, &rows)
+    }
+
+    /// Write a CSV file of equally long `columns` under `header`.
+    pub fn write_columns<S: AsRef<str>>(
+        &self,
+        name: &str,
+        header: &[S],
+        columns: &[&[f64]],
+    ) -> Result<PathBuf> {
+        let n = columns.first().map_or(0, |c| c.len());
+        let rows: Vec<Vec<f64>> = (0..n)
+            .map(|i| columns.iter().map(|c| c[i]).collect())
+            .collect();
+        self.write_csv(name, header, &rows)
     }
 
     /// Write `summary.json` and print one line per check on stdout.
@@ -324,6 +447,53 @@ pub fn mean_sem(xs: &[f64]) -> (f64, f64) {
     (m, (var / n as f64).sqrt())
 }
 
+/// The difference a - b of two (value, standard error) pairs, with the
+/// errors combined in quadrature.
+pub fn difference((a, ea): (f64, f64), (b, eb): (f64, f64)) -> (f64, f64) {
+    (a - b, (ea * ea + eb * eb).sqrt())
+}
+
+/// The median of `xs` (the mean of the middle two for an even count; NaN
+/// when empty).
+pub fn median(xs: &[f64]) -> f64 {
+    let mut v = xs.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    match n {
+        0 => f64::NAN,
+        _ if n % 2 == 1 => v[n / 2],
+        _ => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
+}
+
+/// [`mean_sem`] of `f` over `items` (e.g. one field of every run's result).
+pub fn mean_sem_by<T>(items: &[T], f: impl Fn(&T) -> f64) -> (f64, f64) {
+    mean_sem(&items.iter().map(f).collect::<Vec<_>>())
+}
+
+/// A per-run number with its name, e.g. `("amplitude", |r| r.shape.amplitude)`.
+pub type NamedMeasure<T> = (&'static str, fn(&T) -> f64);
+
+/// [`mean_sem`] of each named measure over `items`, with its name.
+pub fn stats_by<T>(
+    items: &[T],
+    measures: &[NamedMeasure<T>],
+) -> BTreeMap<&'static str, (f64, f64)> {
+    measures
+        .iter()
+        .map(|&(name, f)| (name, mean_sem_by(items, f)))
+        .collect()
+}
+
+/// [`mean_sem`] over the `series` at each index 0..len (e.g. each sample
+/// time of every run): the mean curve and its standard errors (NaN where
+/// there are no series).
+pub fn mean_sem_at<V: AsRef<[f64]>>(series: &[V], len: usize) -> (Vec<f64>, Vec<f64>) {
+    (0..len)
+        .map(|t| mean_sem(&series.iter().map(|s| s.as_ref()[t]).collect::<Vec<_>>()))
+        .unzip()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -339,6 +509,23 @@ mod tests {
         s.sort();
         s.dedup();
         assert_eq!(s.len(), 17);
+    }
+
+    #[test]
+    fn metrics_and_summaries_of_runs() {
+        let m = stat_metrics([("a", (1.0, 0.5))]);
+        assert_eq!(m["a"], 1.0);
+        assert_eq!(m["a_err"], 0.5);
+        assert_eq!(metrics_of([("b", 2.0)])["b"], 2.0);
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert!(median(&[]).is_nan());
+        assert_eq!(difference((3.0, 3.0), (1.0, 4.0)), (2.0, 5.0));
+        let (m, e) = mean_sem_at(&[vec![1.0, 2.0], vec![3.0, 2.0]], 2);
+        assert_eq!(m, vec![2.0, 2.0]);
+        assert_eq!(e, vec![1.0, 0.0]);
+        let s = stats_by(&[1.0, 3.0], &[("x", |v: &f64| *v)]);
+        assert_eq!(s["x"], (2.0, 1.0));
     }
 
     #[test]

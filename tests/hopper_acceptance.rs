@@ -61,7 +61,7 @@ fn empties(recs: &[Record]) -> bool {
 /// for a stationary outflow the false-alarm rate is 0.3%.
 fn no_trend(recs: &[Record]) -> (bool, f64) {
     let a = analyse_outflow(recs, M).unwrap();
-    (a.trend_z.abs() <= 3.0, a.trend_z)
+    (a.rates.trend_z().abs() <= 3.0, a.rates.trend_z())
 }
 
 /// Flat spectrum: the log-log slope for f <= 1/8 lies within 3 of its

@@ -7,7 +7,11 @@
 //! - [`fit`]: least squares, the exponent alpha of P(j) ~ j^-alpha with the
 //!   sharp peak removed (A9 "Exponent alpha"), peak finding and the wave
 //!   velocity from the peak (A9 "Wave velocity from the peak").
+//! - [`waves`]: the wave speed from the spectra of a stack of density fields.
+//! - [`relaxation`]: the approach of an ensemble of series to saturation
+//!   (half-times, window means; PH95 Fig. 3).
 
 pub mod fit;
+pub mod relaxation;
 pub mod spectrum;
 pub mod waves;

@@ -53,8 +53,14 @@ pub fn spectral_speed(
         .collect::<Result<Vec<_>>>()?;
     let spectrum = average_spectra(&per_bin)?;
     let j = spectral_peak(&spectrum)?;
-    let v = length as f64 * j / (t0 as f64 * 2.0 * spec.m as f64);
-    Ok((spectrum, v))
+    Ok((spectrum, peak_speed(length, j, t0, spec.m)))
+}
+
+/// The speed (rows per step) of a wave at (fractional) frequency bin `j` of
+/// an m-frequency spectrum sampled every `t0` steps in a periodic pipe of
+/// `length` rows: v = L j / (t0 2m).
+pub fn peak_speed(length: usize, j: f64, t0: u64, m: usize) -> f64 {
+    length as f64 * j / (t0 as f64 * 2.0 * m as f64)
 }
 
 #[cfg(test)]

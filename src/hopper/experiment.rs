@@ -3,10 +3,12 @@
 //! `hopper-fig3` and `tests/hopper_*.rs`, so the tests assert the very
 //! numbers the figures report.
 
-use super::energy::{motion, orientation};
+use super::energy::{motion, orientation, Aligned};
+use super::geometry::Geometry;
 use super::model::{grain_state, is_grain, Hopper, HopperParams};
-use super::observables::{orientation_correlation, Activity};
+use super::observables::{correlation_length, orientation_correlation, Activity, OutflowStats};
 use crate::error::{check_range, Result};
+use crate::run::{ensemble_with_threads, progress};
 
 /// What to do and record in a run.
 #[derive(Debug, Clone, PartialEq)]
@@ -99,6 +101,14 @@ impl Record {
         self.moving_by_orientation[0] as f64 / n.max(1) as f64
     }
 
+    /// The snapshot kept `t` iterations after opening, if any.
+    pub fn snapshot(&self, t: u64) -> Option<&[u8]> {
+        self.snapshots
+            .iter()
+            .find(|(s, _)| *s == t)
+            .map(|(_, v)| v.as_slice())
+    }
+
     /// The stationary outflow of BB90 Fig. 3: the iterations after the
     /// start-up (once `skip` of the initial grains have left) while more than
     /// `full` of the initial grains remain inside.
@@ -119,6 +129,53 @@ impl Record {
         &self.outflow[a..b]
     }
 }
+
+/// One per-run number of BB90 Fig. 2, from the record, the geometry and the
+/// two core rows ([`core_rows`]).
+pub type Measure = fn(&Record, &Geometry, &[usize; 2]) -> f64;
+
+/// The per-run numbers of BB90 Fig. 2 with their names (the metric names
+/// of `hopper-fig2`, after the case): core widths and occupancies at the
+/// core rows, activity at the centre and next to the walls, order and
+/// correlation length of the orientations, emptying.
+pub const FIG2_MEASURES: [(&str, Measure); 20] = [
+    ("core_width_low", |r, g, y| r.activity.core_width(g, y[0])),
+    ("core_width_high", |r, g, y| r.activity.core_width(g, y[1])),
+    ("occupancy_core", |r, g, y| {
+        r.activity.core_and_side_occupancy(g, y).0
+    }),
+    ("occupancy_sides", |r, g, y| {
+        r.activity.core_and_side_occupancy(g, y).1
+    }),
+    ("activity_centre", |r, g, y| {
+        r.activity.centre_and_wall_activity(g, y[0], 2).0
+    }),
+    ("activity_wall", |r, g, y| {
+        r.activity.centre_and_wall_activity(g, y[0], 2).1
+    }),
+    ("order_filled", |r, _, _| r.g_filled[0]),
+    ("order_half_empty", |r, _, _| r.g_half[0]),
+    ("g2_half_empty", |r, _, _| r.g_half[1]),
+    ("g4_half_empty", |r, _, _| r.g_half[3]),
+    ("g8_half_empty", |r, _, _| r.g_half[7]),
+    ("g16_half_empty", |r, _, _| r.g_half[15]),
+    ("corr_length_filled", |r, _, _| {
+        correlation_length(&r.g_filled)
+    }),
+    ("corr_length_half_empty", |r, _, _| {
+        correlation_length(&r.g_half)
+    }),
+    ("vertical_fraction_moving", |r, _, _| {
+        r.vertical_fraction_of_moving()
+    }),
+    ("empty_iterations", |r, _, _| r.empty_iterations as f64),
+    ("remaining_grains", |r, _, _| r.remaining as f64),
+    ("initial_grains", |r, _, _| r.initial as f64),
+    ("fill_iterations", |r, _, _| r.fill_iterations as f64),
+    ("mean_rate", |r, _, _| {
+        r.removed as f64 / r.empty_iterations.max(1) as f64
+    }),
+];
 
 /// Two heights for the core width: 20% and 40% of the wedge above the
 /// outlet channel.
@@ -227,23 +284,91 @@ pub fn run(params: HopperParams, seed: u64, plan: &Plan) -> Result<Record> {
     })
 }
 
+/// One case of a hopper figure: the energy's beta and reading of "aligned".
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Case {
+    /// Prefix of the case's metric names, e.g. `beta1_along`.
+    pub key: &'static str,
+    /// Legend and title text, e.g. `beta = 1, aligned = along-velocity`.
+    pub caption: &'static str,
+    /// Weight of the orientation energy.
+    pub beta: f64,
+    /// Reading of "aligned" (MODEL.md B4).
+    pub aligned: Aligned,
+}
+
+impl Case {
+    /// Orientation off (beta = 0).
+    pub const BETA0: Case = Case {
+        key: "beta0",
+        caption: "beta = 0",
+        beta: 0.0,
+        aligned: Aligned::AlongVelocity,
+    };
+    /// Orientation on (beta = 1), "aligned" read literally: along the velocity.
+    pub const BETA1_ALONG: Case = Case {
+        key: "beta1_along",
+        caption: "beta = 1, aligned = along-velocity",
+        beta: 1.0,
+        aligned: Aligned::AlongVelocity,
+    };
+    /// Orientation on (beta = 1), "aligned" read as the same orientation.
+    pub const BETA1_SAME: Case = Case {
+        key: "beta1_same",
+        caption: "beta = 1, aligned = same-orientation",
+        beta: 1.0,
+        aligned: Aligned::SameOrientation,
+    };
+
+    /// `base` with this case's beta and reading.
+    pub fn params(&self, base: HopperParams) -> HopperParams {
+        let mut p = base;
+        p.energy.beta = self.beta;
+        p.energy.aligned = self.aligned;
+        p
+    }
+
+    /// The case as recorded in `summary.json`: key, beta and reading.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({"key": self.key, "beta": self.beta, "aligned": self.aligned.name()})
+    }
+}
+
+/// Run every case once per seed following `plan` on `threads` threads, with
+/// a progress bar; the records per case, in seed order (the first error in
+/// that order stops the figure).
+pub fn run_cases(
+    base: HopperParams,
+    cases: &[Case],
+    seeds: &[u64],
+    plan: &Plan,
+    threads: usize,
+) -> Result<Vec<Vec<Record>>> {
+    let pb = progress((cases.len() * seeds.len()) as u64, "hopper runs");
+    let jobs: Vec<(usize, usize)> = (0..cases.len())
+        .flat_map(|c| (0..seeds.len()).map(move |r| (c, r)))
+        .collect();
+    let results = ensemble_with_threads(jobs.len(), threads, |j| {
+        let (c, r) = jobs[j];
+        let rec = run(cases[c].params(base), seeds[r], plan);
+        pb.inc(1);
+        rec
+    });
+    pb.finish();
+    let mut recs: Vec<Vec<Record>> = (0..cases.len()).map(|_| Vec::new()).collect();
+    for (j, rec) in results.into_iter().enumerate() {
+        recs[jobs[j].0].push(rec?);
+    }
+    Ok(recs)
+}
+
 /// Outflow analysis of BB90 Fig. 3 over an ensemble of runs.
 #[derive(Debug, Clone)]
 pub struct OutflowAnalysis {
-    /// Mean grains per iteration in the stationary window (mean over runs).
-    pub mean: f64,
-    /// Standard deviation of the per-iteration outflow (mean over runs).
-    pub sd: f64,
-    /// Rate in the first half of the window (mean over runs).
-    pub first: f64,
-    /// Standard error of `first` (block means, combined over runs).
-    pub first_se: f64,
-    /// Rate in the second half of the window.
-    pub second: f64,
-    /// Standard error of `second`.
-    pub second_se: f64,
-    /// (second - first) / combined standard error.
-    pub trend_z: f64,
+    /// Rates in the stationary window ([`OutflowStats::combine`] of the
+    /// runs: means over runs, standard errors combined, `len` the shortest
+    /// window).
+    pub rates: OutflowStats,
     /// Mean length of the stationary window.
     pub window: f64,
     /// NR `spctrm` power P(j), j = 0..m-1, averaged over runs.
@@ -261,6 +386,28 @@ pub struct OutflowAnalysis {
     pub lag1: f64,
 }
 
+impl OutflowAnalysis {
+    /// The numbers of the analysis under the names `hopper-fig3` reports
+    /// (after the case's key).
+    pub fn named(&self) -> [(&'static str, f64); 13] {
+        [
+            ("mean_rate", self.rates.mean),
+            ("sd_rate", self.rates.sd),
+            ("rate_first_half", self.rates.first),
+            ("rate_first_half_err", self.rates.first_se),
+            ("rate_second_half", self.rates.second),
+            ("rate_second_half_err", self.rates.second_se),
+            ("trend_z", self.rates.trend_z()),
+            ("window_iterations", self.window),
+            ("spectral_slope", self.fit.slope),
+            ("spectral_slope_err", self.fit.slope_err),
+            ("spectrum_k", self.k as f64),
+            ("spectrum_high_to_low", self.high_to_low),
+            ("lag1_correlation", self.lag1),
+        ]
+    }
+}
+
 /// Where the stationary window starts: once this fraction of the grains left.
 pub const WINDOW_SKIP: f64 = 0.15;
 /// Where it ends: when only this fraction of the grains remains (BB90 Fig. 3:
@@ -276,7 +423,6 @@ pub const WINDOW_BLOCK: usize = 16;
 /// 11-iteration average keeps; above it the outlet's period-2 alternation
 /// shapes the band).
 pub fn analyse_outflow(records: &[Record], m: usize) -> Result<OutflowAnalysis> {
-    use super::observables::OutflowStats;
     use crate::analysis::fit::linear_fit;
     use crate::analysis::spectrum::{frequency, spctrm, SpectrumParams, Window};
     use crate::error::{Error, ErrorKind};
@@ -295,13 +441,8 @@ pub fn analyse_outflow(records: &[Record], m: usize) -> Result<OutflowAnalysis> 
         .map(|w| OutflowStats::new(w, WINDOW_BLOCK))
         .collect::<Result<_>>()?;
     let n = stats.len() as f64;
-    let avg = |f: &dyn Fn(&OutflowStats) -> f64| stats.iter().map(f).sum::<f64>() / n;
-    let comb = |f: &dyn Fn(&OutflowStats) -> f64| {
-        stats.iter().map(|s| f(s).powi(2)).sum::<f64>().sqrt() / n
-    };
-    let (first, first_se) = (avg(&|s| s.first), comb(&|s| s.first_se));
-    let (second, second_se) = (avg(&|s| s.second), comb(&|s| s.second_se));
-    let shortest = stats.iter().map(|s| s.len).min().unwrap_or(0);
+    let rates = OutflowStats::combine(&stats);
+    let shortest = rates.len;
     let k = shortest / (4 * m.max(1));
     if k == 0 {
         return Err(Error::new(
@@ -331,14 +472,8 @@ pub fn analyse_outflow(records: &[Record], m: usize) -> Result<OutflowAnalysis> 
     let high_to_low = p[m - quarter..].iter().sum::<f64>() / p[1..=quarter].iter().sum::<f64>();
     let lag1 = windows.iter().map(|w| lag_correlation(w, 1)).sum::<f64>() / n;
     Ok(OutflowAnalysis {
-        mean: avg(&|s| s.mean),
-        sd: avg(&|s| s.sd),
-        first,
-        first_se,
-        second,
-        second_se,
-        trend_z: (second - first) / (first_se.powi(2) + second_se.powi(2)).sqrt(),
-        window: avg(&|s| s.len as f64),
+        rates,
+        window: stats.iter().map(|s| s.len as f64).sum::<f64>() / n,
         frequencies: (0..m).map(|j| frequency(j, m)).collect(),
         spectrum: p,
         k,
@@ -346,6 +481,23 @@ pub fn analyse_outflow(records: &[Record], m: usize) -> Result<OutflowAnalysis> 
         high_to_low,
         lag1,
     })
+}
+
+/// The outflow rate from opening while more than `full` of the grains
+/// remain, the window taken literally (no start-up skipped): the
+/// mean rate and the standard deviation of the per-iteration outflow, each
+/// averaged over `records`.
+pub fn open_window_rates(records: &[Record], full: f64) -> (f64, f64) {
+    let n = records.len() as f64;
+    let mut rates = (0.0, 0.0);
+    for r in records {
+        let w = r.window(0.0, full);
+        let mu = w.iter().sum::<f64>() / w.len().max(1) as f64;
+        let var = w.iter().map(|q| (q - mu).powi(2)).sum::<f64>() / (w.len().max(2) - 1) as f64;
+        rates.0 += mu / n;
+        rates.1 += var.sqrt() / n;
+    }
+    rates
 }
 
 /// Correlation coefficient of `q` with itself `lag` iterations later.

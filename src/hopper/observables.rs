@@ -268,6 +268,26 @@ impl OutflowStats {
         })
     }
 
+    /// The statistics of an ensemble of windows (at least one): each mean
+    /// the mean over the windows, each standard error the root of the sum
+    /// of their squares over the number of windows, `len` the shortest.
+    pub fn combine(stats: &[OutflowStats]) -> OutflowStats {
+        let n = stats.len() as f64;
+        let avg = |f: &dyn Fn(&OutflowStats) -> f64| stats.iter().map(f).sum::<f64>() / n;
+        let comb = |f: &dyn Fn(&OutflowStats) -> f64| {
+            stats.iter().map(|s| f(s).powi(2)).sum::<f64>().sqrt() / n
+        };
+        OutflowStats {
+            mean: avg(&|s| s.mean),
+            sd: avg(&|s| s.sd),
+            first: avg(&|s| s.first),
+            first_se: comb(&|s| s.first_se),
+            second: avg(&|s| s.second),
+            second_se: comb(&|s| s.second_se),
+            len: stats.iter().map(|s| s.len).min().unwrap_or(0),
+        }
+    }
+
     /// (second - first) in units of their combined standard error.
     pub fn trend_z(&self) -> f64 {
         (self.second - self.first) / (self.first_se.powi(2) + self.second_se.powi(2)).sqrt()

@@ -38,6 +38,29 @@ pub fn random_start_bin_variance(rho: f64, bin: usize, width: usize) -> f64 {
     (bin * width) as f64 * rho * (1.0 - rho / 6.0)
 }
 
+/// Expected density contrast C of the random start, K bins of `bin` rows:
+/// independent bins of mean mu = bin W rho and variance s2
+/// ([`random_start_bin_variance`]), so E|n_i - n_{i+1}| = 2 sqrt(s2 / pi)
+/// (normal approximation) and C(0) = K 2 sqrt(s2 / pi) / mu.
+pub fn random_start_contrast(rho: f64, bin: usize, width: usize, bins: usize) -> f64 {
+    let mu = (bin * width) as f64 * rho;
+    let s2 = random_start_bin_variance(rho, bin, width);
+    bins as f64 * 2.0 * (s2 / std::f64::consts::PI).sqrt() / mu
+}
+
+/// The band statistic s_low (MODEL.md A11) of density fields `fields[t][i]`
+/// of a pipe of initial density `rho`, bins of `bin` rows and `width`
+/// columns: the mean of S(1..3) over the fields divided by its random-start
+/// value ([`LowK::mean`]).
+pub fn s_low(fields: &[Vec<f64>], rho: f64, bin: usize, width: usize) -> f64 {
+    let k = fields.first().map_or(0, |v| v.len());
+    let mut low = LowK::new(3, k, random_start_bin_variance(rho, bin, width));
+    for v in fields {
+        low.add(v);
+    }
+    low.mean()
+}
+
 /// Accumulates S(k) for k = 1..=kmax over samples, normalised by its value
 /// for the random start, K * (per-bin variance): waves give S(1..3) >> 1,
 /// a structureless gas about 1 (MODEL.md A11).

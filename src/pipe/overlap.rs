@@ -18,6 +18,17 @@
 //! assert_eq!(best_shift(&a, &b), 3);
 //! ```
 
+use super::observables::s_low;
+use super::Params;
+use crate::analysis::fit::linear_fit;
+use crate::analysis::spectrum::SpectrumParams;
+use crate::analysis::waves::spectral_speed;
+use crate::error::Result;
+use crate::run::NamedMeasure;
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use serde::{Deserialize, Serialize};
+
 /// The profile rotated by `s` bins: `out[i] = a[(i + s) mod K]`.
 pub fn shifted(a: &[f64], s: i64) -> Vec<f64> {
     let k = a.len() as i64;
@@ -167,6 +178,233 @@ pub fn shift_against_lag(fields: &[Vec<f64>], max_lag: usize) -> Vec<f64> {
         prev = s;
     }
     out
+}
+
+/// The real-space wave speed [PH95 C, Fig. 5] of fields sampled every `dt`
+/// steps in bins of `rows_per_bin` rows: the shift of maximal overlap
+/// s(tau) in rows for tau = dt, 2 dt, ..., max_lag dt
+/// ([`shift_against_lag`]) and the least-squares slope of s against tau
+/// (rows per step, + = up, against gravity).
+pub fn real_space_speed(
+    fields: &[Vec<f64>],
+    max_lag: usize,
+    dt: u64,
+    rows_per_bin: usize,
+) -> Result<(Vec<f64>, f64)> {
+    let s = shift_against_lag(fields, max_lag);
+    let tau: Vec<f64> = (1..=s.len()).map(|m| (m as u64 * dt) as f64).collect();
+    let rows: Vec<f64> = s.iter().map(|v| v * rows_per_bin as f64).collect();
+    let speed = linear_fit(&tau, &rows)?.slope;
+    Ok((rows, speed))
+}
+
+/// The slope of s(tau) (rows at tau = dt, 2 dt, ..., as returned by
+/// [`real_space_speed`]) over the late half of the lags only; NaN if it
+/// cannot be fitted.
+pub fn late_lag_speed(shift_rows: &[f64], dt: u64) -> f64 {
+    let from = shift_rows.len() / 2;
+    let x: Vec<f64> = (from..shift_rows.len())
+        .map(|m| ((m as u64 + 1) * dt) as f64)
+        .collect();
+    linear_fit(&x, &shift_rows[from..])
+        .map(|f| f.slope)
+        .unwrap_or(f64::NAN)
+}
+
+/// One run's wave speed measured both ways [PH95 Fig. 5]: in real space
+/// ([`real_space_speed`]) and from the spectral peak
+/// ([`spectral_speed`]).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SpeedRun {
+    /// s(tau) in rows for tau = dt, 2 dt, ..., max_lag dt.
+    pub shift_rows: Vec<f64>,
+    /// Slope of s against tau (rows per step, + = up, against gravity).
+    pub speed: f64,
+    /// Bin-averaged spectrum of this run.
+    pub spectrum: Vec<f64>,
+    /// Spectral speed of this run (rows per step, always >= 0).
+    pub speed_spectral: f64,
+    /// s_low of the fields (MODEL.md A11).
+    pub s_low: f64,
+}
+
+impl SpeedRun {
+    /// Measure the steady-state `fields` of a pipe with `params`, sampled
+    /// every `dt` steps: lags up to `max_lag`, the spectrum with `spec`.
+    pub fn measure(
+        fields: &[Vec<f64>],
+        params: &Params,
+        dt: u64,
+        max_lag: usize,
+        spec: &SpectrumParams,
+    ) -> Result<Self> {
+        let (shift_rows, speed) = real_space_speed(fields, max_lag, dt, params.bin)?;
+        let (spectrum, speed_spectral) = spectral_speed(fields, params.length, dt, spec)?;
+        Ok(SpeedRun {
+            shift_rows,
+            speed,
+            spectrum,
+            speed_spectral,
+            s_low: s_low(fields, params.rho, params.bin, params.width),
+        })
+    }
+}
+
+/// Shape statistics of a wave profile centred on its maximum [PH95 Fig. 4].
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+pub struct WaveShape {
+    /// (max - mean) / mean.
+    pub amplitude: f64,
+    /// Half-width (rows) at half the excess maximum on the front side
+    /// (downstream, towards lower y).
+    pub front: f64,
+    /// Half-width (rows) on the back side (upstream).
+    pub back: f64,
+    /// front + back (rows).
+    pub width: f64,
+    /// (back - front) / (back + front): > 0 for a steep front.
+    pub asymmetry: f64,
+}
+
+/// Distance (in bins, interpolated) from the maximum at `c` to where the
+/// excess first falls to half, walking by `dir` (+1 up, -1 down); at most K/2.
+fn half_distance(p: &[f64], c: usize, mean: f64, dir: i64) -> f64 {
+    let k = p.len() as i64;
+    let half = 0.5 * (p[c] - mean);
+    let mut prev = p[c] - mean;
+    for d in 1..=k / 2 {
+        let v = p[(c as i64 + dir * d).rem_euclid(k) as usize] - mean;
+        if v <= half {
+            let f = if prev != v {
+                (prev - half) / (prev - v)
+            } else {
+                1.0
+            };
+            return (d - 1) as f64 + f;
+        }
+        prev = v;
+    }
+    (k / 2) as f64
+}
+
+/// The shape of `profile` (bins of `rows_per_bin` rows), centred on its
+/// maximum.
+pub fn wave_shape(profile: &[f64], rows_per_bin: usize) -> WaveShape {
+    let p = centre_on_max(profile);
+    let c = argmax(&p);
+    let mean = p.iter().sum::<f64>() / p.len() as f64;
+    let front = half_distance(&p, c, mean, -1) * rows_per_bin as f64;
+    let back = half_distance(&p, c, mean, 1) * rows_per_bin as f64;
+    WaveShape {
+        amplitude: (p[c] - mean) / mean,
+        front,
+        back,
+        width: front + back,
+        asymmetry: (back - front) / (back + front),
+    }
+}
+
+/// One run's wave profile [PH95 Fig. 4] and its alignment-bias null.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ProfileRun {
+    /// The run's aligned profile, centred on its maximum (particles per bin).
+    pub profile: Vec<f64>,
+    /// Its shape.
+    pub shape: WaveShape,
+    /// The same alignment of white-noise fields (the alignment-bias null).
+    pub null: WaveShape,
+    /// Per-bin variance over the fields (mean over bins), the null's variance.
+    pub bin_variance: f64,
+}
+
+impl ProfileRun {
+    /// Names of the columns of [`ProfileRun::row`].
+    pub const COLUMNS: [&'static str; 6] = [
+        "amplitude",
+        "width",
+        "front",
+        "back",
+        "asymmetry",
+        "null_amplitude",
+    ];
+
+    /// The run's shape and null amplitude, for a table of runs.
+    pub fn row(&self) -> [f64; 6] {
+        let s = &self.shape;
+        [
+            s.amplitude,
+            s.width,
+            s.front,
+            s.back,
+            s.asymmetry,
+            self.null.amplitude,
+        ]
+    }
+}
+
+/// Align the `fields` of one run hierarchically into its wave profile.
+/// Alignment makes even pure noise look like a bump, so as many white-noise
+/// fields of mean `mean` and the run's own per-bin variance (over its
+/// fields, mean over bins; Box-Muller, generator seeded from `seed` with a
+/// fixed offset) are aligned the same way: the null.
+pub fn profile_run(fields: &[Vec<f64>], mean: f64, rows_per_bin: usize, seed: u64) -> ProfileRun {
+    let profile = centre_on_max(&align_hierarchical(fields));
+    let (n, kb) = (fields.len(), fields[0].len());
+    let var = (0..kb)
+        .map(|i| {
+            let m = fields.iter().map(|f| f[i]).sum::<f64>() / n as f64;
+            fields.iter().map(|f| (f[i] - m).powi(2)).sum::<f64>() / (n as f64 - 1.0)
+        })
+        .sum::<f64>()
+        / kb as f64;
+    let sd = var.sqrt();
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed ^ 0x5EED_0FA1_1000);
+    let noise: Vec<Vec<f64>> = (0..n)
+        .map(|_| {
+            (0..kb)
+                .map(|_| {
+                    let (u, v): (f64, f64) = (rng.random(), rng.random());
+                    mean + sd * (-2.0 * (1.0 - u).ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+                })
+                .collect()
+        })
+        .collect();
+    ProfileRun {
+        shape: wave_shape(&profile, rows_per_bin),
+        null: wave_shape(&align_hierarchical(&noise), rows_per_bin),
+        profile,
+        bin_variance: var,
+    }
+}
+
+/// What PH95 Fig. 4 reports of each [`ProfileRun`], with its name: its
+/// shape, its null amplitude (the alignment bias), the excess of the
+/// amplitude over the null, the per-bin variance.
+pub const PROFILE_MEASURES: [NamedMeasure<ProfileRun>; 8] = [
+    ("amplitude", |r| r.shape.amplitude),
+    ("null_amplitude", |r| r.null.amplitude),
+    ("excess_amplitude", |r| r.shape.amplitude - r.null.amplitude),
+    ("width", |r| r.shape.width),
+    ("front_half_width", |r| r.shape.front),
+    ("back_half_width", |r| r.shape.back),
+    ("asymmetry", |r| r.shape.asymmetry),
+    ("bin_variance", |r| r.bin_variance),
+];
+
+/// The ensemble profile of the runs' profiles (bins of `rows_per_bin`
+/// rows), aligned hierarchically and centred on its maximum: points
+/// (y - y_peak in rows, density / mean density).
+pub fn ensemble_profile(runs: &[ProfileRun], rows_per_bin: usize) -> Vec<(f64, f64)> {
+    let profiles: Vec<Vec<f64>> = runs.iter().map(|r| r.profile.clone()).collect();
+    let prof = centre_on_max(&align_hierarchical(&profiles));
+    let kb = prof.len();
+    let mean = prof.iter().sum::<f64>() / kb as f64;
+    (0..kb)
+        .map(|i| {
+            let y = (i as i64 - (kb / 2) as i64) * rows_per_bin as i64;
+            (y as f64, prof[i] / mean)
+        })
+        .collect()
 }
 
 #[cfg(test)]

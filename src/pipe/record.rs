@@ -1,10 +1,13 @@
 //! Recording a run: bin densities every `every` steps (the space-time data of
 //! PH94 Fig. 1), with the contrast and kinetic energy at each sample, and the
-//! band statistics of MODEL.md A11 over the late part of the record.
+//! band statistics of MODEL.md A11 over the late part of the record; the
+//! steady-state fields of PH95 Figs. 4 and 5 ([`Steady`]) and the approach
+//! to the steady state of PH95 Fig. 3 ([`relaxation`]).
 
-use super::observables::{contrast, random_start_bin_variance, LowK};
+use super::observables::{contrast, random_start_bin_variance, s_low};
 use super::{Params, Pipe, Rules};
 use crate::error::Result;
+use crate::run::Tier;
 use serde::{Deserialize, Serialize};
 
 /// Bin densities sampled during a run.
@@ -36,6 +39,27 @@ impl Record {
         self.n.extend(other.n);
         self.energy.extend(other.energy);
     }
+
+    /// The CSV header of [`Record::csv_rows`]: `t, n0, n1, ...`.
+    pub fn csv_header(&self) -> Vec<String> {
+        let k = self.n.first().map_or(0, |v| v.len());
+        std::iter::once("t".to_string())
+            .chain((0..k).map(|i| format!("n{i}")))
+            .collect()
+    }
+
+    /// One row per sample: its time, then the bin counts.
+    pub fn csv_rows(&self) -> Vec<Vec<f64>> {
+        self.n
+            .iter()
+            .enumerate()
+            .map(|(t, v)| {
+                std::iter::once(self.time(t) as f64)
+                    .chain(v.iter().copied())
+                    .collect()
+            })
+            .collect()
+    }
 }
 
 /// Run `steps` steps, sampling the bins at the current time and then after
@@ -66,7 +90,7 @@ pub fn record(
 }
 
 /// Band statistics of the samples from `from` on (MODEL.md A11).
-#[derive(Debug, Clone, Copy, Serialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 pub struct Bands {
     /// Mean density contrast C over the samples.
     pub contrast: f64,
@@ -84,11 +108,9 @@ pub fn bands(rec: &Record, from: usize, rho: f64, bin: usize, width: usize) -> B
     let samples = &rec.n[from.min(rec.n.len())..];
     let k = samples.first().map(|v| v.len()).unwrap_or(0);
     let var0 = random_start_bin_variance(rho, bin, width);
-    let mut low = LowK::new(3, k, var0);
     let mut c = 0.0;
     let mut var = 0.0;
     for v in samples {
-        low.add(v);
         c += contrast(v);
         let mean = v.iter().sum::<f64>() / k.max(1) as f64;
         var += v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / k.max(1) as f64;
@@ -96,8 +118,19 @@ pub fn bands(rec: &Record, from: usize, rho: f64, bin: usize, width: usize) -> B
     let n = samples.len().max(1) as f64;
     Bands {
         contrast: c / n,
-        s_low: low.mean(),
+        s_low: s_low(samples, rho, bin, width),
         var_ratio: var / n / var0,
+    }
+}
+
+/// The pipe of PH94 Fig. 1a: that of PH94 Fig. 2 ([`Params::default`]:
+/// W = 11, rho = 1, g = b = 0.5, bins of 10 rows, periodic) at L = 2200 and
+/// p = 0.1. PH95 Figs. 2-5 vary its length, p and bins.
+pub fn fig1_pipe() -> Params {
+    Params {
+        length: 2200,
+        p: 0.1,
+        ..Params::default()
     }
 }
 
@@ -154,4 +187,107 @@ pub fn run_bands(params: Params, rules: Rules, seed: u64, steps: u64, every: u64
         params.bin,
         params.width,
     ))
+}
+
+/// When the density fields of the steady state are taken [PH95 Figs. 4,
+/// 5]: after `warmup` steps from the random start, then every `every` steps,
+/// `fields` in all.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Steady {
+    /// Steps before the first field.
+    pub warmup: u64,
+    /// Number of fields.
+    pub fields: usize,
+    /// Steps between fields (T0).
+    pub every: u64,
+}
+
+impl Steady {
+    /// `fields` fields every `every` steps after the warm-up of PH95 Figs.
+    /// 4 and 5 at `tier`: 10000, 20000 or 40000 steps.
+    pub fn ph95(tier: Tier, fields: usize, every: u64) -> Self {
+        Steady {
+            warmup: tier.pick(10_000, 20_000, 40_000),
+            fields,
+            every,
+        }
+    }
+
+    /// Steps of a run: the warm-up and the fields.
+    pub fn steps(&self) -> u64 {
+        self.warmup + self.fields.saturating_sub(1) as u64 * self.every
+    }
+
+    /// The fields (bin counts) of one run. `tick(steps)` reports progress.
+    pub fn record(
+        &self,
+        params: Params,
+        rules: Rules,
+        seed: u64,
+        tick: &(dyn Fn(u64) + Sync),
+    ) -> Result<Vec<Vec<f64>>> {
+        let mut pipe = Pipe::new(params, rules, seed)?;
+        pipe.run(self.warmup)?;
+        tick(self.warmup);
+        let steps = self.fields.saturating_sub(1) as u64 * self.every;
+        Ok(record(&mut pipe, steps, self.every, |_| tick(self.every))?.n)
+    }
+}
+
+/// Sample times of [`relaxation`]: every step up to `early` (the fast
+/// energy loss, with a half-time of tens of steps), then every `every`
+/// steps up to `steps`.
+pub fn sample_times(steps: u64, every: u64, early: u64) -> Vec<u64> {
+    let mut t: Vec<u64> = (0..=early.min(steps)).collect();
+    let mut x = early + every;
+    while x <= steps {
+        t.push(x);
+        x += every;
+    }
+    t
+}
+
+/// One run's approach to the steady state [PH95 Fig. 3], at its sample times.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Relaxation {
+    /// Density contrast C(t).
+    pub contrast: Vec<f64>,
+    /// Kinetic energy loss E(0) - E(t).
+    pub energy_loss: Vec<f64>,
+    /// Largest |E(0) - E(t) - rest(t)| over the samples (0 in the periodic pipe).
+    pub identity_error: f64,
+}
+
+/// Run the pipe from the random start to the last of `times` (increasing,
+/// from 0), recording C(t) and E(0) - E(t) at each. `tick(steps)` reports
+/// progress.
+pub fn relaxation(
+    params: Params,
+    rules: Rules,
+    seed: u64,
+    times: &[u64],
+    tick: &(dyn Fn(u64) + Sync),
+) -> Result<Relaxation> {
+    let mut pipe = Pipe::new(params, rules, seed)?;
+    let mut bins = vec![0.0; params.bins()];
+    let e0 = pipe.moving_count() as f64;
+    let mut s = Relaxation {
+        contrast: Vec::new(),
+        energy_loss: Vec::new(),
+        identity_error: 0.0,
+    };
+    let mut now = 0;
+    for &t in times {
+        pipe.run(t - now)?;
+        tick(t - now);
+        now = t;
+        pipe.fill_bin_counts(&mut bins);
+        s.contrast.push(contrast(&bins));
+        let loss = e0 - pipe.moving_count() as f64;
+        s.energy_loss.push(loss);
+        s.identity_error = s
+            .identity_error
+            .max((loss - pipe.rest_count() as f64).abs());
+    }
+    Ok(s)
 }
