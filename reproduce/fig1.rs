@@ -3,16 +3,20 @@
 //! p = 0.1: waves return; (d) b = 0: none. L = 2200, W = 11, rho = 1,
 //! g = b = 0.5, 40000 steps, bins of 10 rows sampled every 80 steps.
 //!
+//! Runs on the ensemble runner (`granular_automata::ensemble`): run r is the
+//! four panels for the seed derive_seed(--seed, r), saved as it finishes
+//! (resume, `--shard i/n`, `merge`); the pictures and bins CSVs show run 0.
+//!
 //! `cargo run --release --bin fig1 -- --tier quick`
 
 use clap::Parser;
 use granular_automata::cli::{Common, PipeRules};
 use granular_automata::pipe::record::{fig1_panels, fig1_pipe, Bands, Record};
 use granular_automata::plot::{plot_err, png, value_range, SpaceTime};
-use granular_automata::run::{derive_seed, ensemble, mean_sem_by, progress, stat_metrics};
-use granular_automata::run::{Check, Figure};
+use granular_automata::run::{mean_sem_by, stat_metrics, Check, Figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use serde::{Deserialize, Serialize};
 use serde_json::json;
 use std::collections::BTreeMap;
 
@@ -31,10 +35,18 @@ struct Args {
 const WAVE_THRESHOLD: f64 = 2.0;
 const PANELS: [&str; 4] = ["a", "b", "c", "d"];
 
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct RunResult {
+    /// The records of the four panels (run 0 only, for the pictures and
+    /// the bins CSVs).
+    records: Option<Vec<Record>>,
+    /// The band statistics of the four panels over their late halves.
+    bands: Vec<Bands>,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let c = &args.common;
-    c.reject_shard("fig1")?;
     let rules = args.rules.parse()?;
     let fig = Figure::start("fig1", "PH94 Fig. 1", c.tier, rules.to_string());
     // Bands need the full length and duration (shorter pipes or runs do not form
@@ -44,39 +56,51 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let every = 80;
     let base = fig1_pipe();
     base.validate()?;
+    let key = json!({"analysis": 1, "params": base, "rules": rules.to_string(), "steps": steps, "every": every});
+    let ens = c.ensemble(fig.binary, &key, runs)?;
+    let outcome = ens.run(4 * steps, |index, seed, tick| {
+        let panels = fig1_panels(base, rules, seed, steps, every, tick)?;
+        let (records, bands): (Vec<Record>, _) = panels.into_iter().unzip();
+        let records = (index == 0).then_some(records);
+        Ok(RunResult { records, bands })
+    })?;
+    let Some(results) = outcome.complete("") else {
+        return Ok(());
+    };
     let out = fig.output(&c.out)?;
-    let seeds: Vec<u64> = (0..runs as u64).map(|i| derive_seed(c.seed, i)).collect();
-
-    let pb = progress(runs as u64 * 4 * steps, "fig1 steps");
-    let tick = |n: u64| pb.inc(n);
-    let results = ensemble(runs, |i| {
-        fig1_panels(base, rules, seeds[i], steps, every, &tick)
-    });
-    pb.finish();
-    let results: Vec<Vec<(Record, Bands)>> = results.into_iter().collect::<Result<_, _>>()?;
+    let seeds = ens.seeds();
+    let records = results[0]
+        .records
+        .as_ref()
+        .expect("run 0 keeps its records");
 
     // analyse: mean and standard error over seeds, per panel
     let mut metrics = BTreeMap::new();
     let mut stat = BTreeMap::new();
     let mut rows = Vec::new();
     for (k, name) in PANELS.iter().enumerate() {
-        let s_low = mean_sem_by(&results, |r| r[k].1.s_low);
+        let s_low = mean_sem_by(&results, |r| r.bands[k].s_low);
         metrics.extend(stat_metrics([
             (
                 format!("contrast_{name}"),
-                mean_sem_by(&results, |r| r[k].1.contrast),
+                mean_sem_by(&results, |r| r.bands[k].contrast),
             ),
             (format!("s_low_{name}"), s_low),
         ]));
         stat.insert(*name, s_low);
         for (r, &seed) in results.iter().zip(&seeds) {
-            rows.push(vec![k as f64, seed as f64, r[k].1.contrast, r[k].1.s_low]);
+            rows.push(vec![
+                k as f64,
+                seed as f64,
+                r.bands[k].contrast,
+                r.bands[k].s_low,
+            ]);
         }
     }
     let header = ["panel(0=a..3=d)", "seed", "contrast", "s_low"];
     out.write_csv("panel_stats.csv", &header, &rows)?;
     for (k, name) in PANELS.iter().enumerate() {
-        let rec = &results[0][k].0;
+        let rec = &records[k];
         out.write_csv(
             &format!("bins_{name}.csv"),
             &rec.csv_header(),
@@ -92,7 +116,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "(d) p = 0.1, b = 0",
     ];
     let draw = |area: &DrawingArea<BitMapBackend, Shift>, k: usize| {
-        let (rec, bands) = &results[0][k];
+        let (rec, bands) = (&records[k], &results[0].bands[k]);
         let (lo, hi) = value_range(&rec.n);
         let st = SpaceTime {
             values: &rec.n,
