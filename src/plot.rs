@@ -48,7 +48,15 @@ pub fn png(
     Ok(())
 }
 
-/// A chart builder in the house style: `title` in 20 pt, a margin of 15
+/// The font size, at most `max`, at which `title` fits into `width` pixels
+/// (DejaVu Sans averages about 0.55 em per character), at least 11.
+pub fn caption_size(title: &str, width: u32, max: f64) -> f64 {
+    let chars = title.chars().count().max(1) as f64;
+    ((width as f64 - 30.0) / (0.55 * chars)).clamp(11.0, max)
+}
+
+/// A chart builder in the house style: `title` in 20 pt (smaller if it
+/// would not fit), a margin of 15
 /// pixels, 50 pixels for the x labels and `y_labels` for the y labels.
 pub fn chart_builder<'a, 'b, DB: DrawingBackend>(
     root: &'a DrawingArea<DB, Shift>,
@@ -56,8 +64,9 @@ pub fn chart_builder<'a, 'b, DB: DrawingBackend>(
     y_labels: u32,
 ) -> ChartBuilder<'a, 'b, DB> {
     let mut builder = ChartBuilder::on(root);
+    let size = caption_size(title, root.dim_in_pixel().0, 20.0);
     builder
-        .caption(title, (FONT, 20))
+        .caption(title, (FONT, size))
         .margin(15)
         .x_label_area_size(50)
         .y_label_area_size(y_labels);
@@ -358,7 +367,10 @@ impl SpaceTime<'_> {
         };
         let height = nb as f64 * self.rows_per_bin;
         let mut chart = ChartBuilder::on(area)
-            .caption(title, (FONT, 17))
+            .caption(
+                title,
+                (FONT, caption_size(title, area.dim_in_pixel().0, 17.0)),
+            )
             .margin(8)
             .x_label_area_size(40)
             .y_label_area_size(65)
