@@ -9,17 +9,18 @@
 //! `cargo run --release --bin waves-fig12 -- --tier quick`
 
 use clap::Parser;
-use granular_automata::cli::{Common, PipeRules};
+use granular_automata::cli::{Common, PipeArgs};
 use granular_automata::ensemble::Outcome;
-use granular_automata::pipe::open::{bisect_ic, open_run, stationarity, Stationarity};
-use granular_automata::pipe::spectra::{spectrum_lines, tier_setup};
-use granular_automata::pipe::sweep::{header, point_metrics, run_sweep, site_updates, SweepPoint};
-use granular_automata::pipe::{Boundary, Params, Rules};
-use granular_automata::plot::{
-    errorbar_chart, line_chart, line_chart_at, ErrSeries, Line, PALETTE,
+use granular_automata::pipe::open::{
+    bisect_ic, open_run, stationarity, trend_threshold, PipeSize, Stationarity, TREND_FALSE_ALARM,
 };
+use granular_automata::pipe::spectra::{spectra_chart, spectrum_lines, tier_setup};
+use granular_automata::pipe::sweep::{
+    header, point_metrics, run_sweep, site_updates, PointResult, SweepPoint,
+};
+use granular_automata::pipe::{Boundary, Params, Rules};
+use granular_automata::plot::{errorbar_chart, line_chart, ErrSeries, Line, PALETTE};
 use granular_automata::run::{derive_seed, Check, Output, Summary};
-use plotters::chart::SeriesLabelPosition;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -29,9 +30,24 @@ use std::time::Instant;
 #[command(about = "PH95 Fig. 12: open pipe, critical injection rate, spectra and alpha against I")]
 struct Args {
     #[command(flatten)]
-    common: Common,
-    #[command(flatten)]
-    rules: PipeRules,
+    pipe: PipeArgs,
+    /// Steps of each trend run of N(t) from an empty pipe (default by tier:
+    /// 20000, 50000, 100000). Shorter runs see fewer clogs: I_c is biased up.
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Pipes whose I_c is measured, as LxW separated by commas; the first is
+    /// the main pipe of panels (a)-(c) (default by tier; quick:
+    /// 220x11,220x5,440x11).
+    #[arg(long, value_delimiter = ',')]
+    sizes: Vec<PipeSize>,
+    /// Bisection steps for I_c on [0, 1] (default by tier: 5, 6, 7); the
+    /// error of I_c is the final half-width 2^-(n+1).
+    #[arg(long)]
+    bisections: Option<usize>,
+    /// Skip the spectra (panels a and b: waves-fig12a.png, waves-fig12b.png,
+    /// waves-fig12b.csv), about three quarters of the cost: only I_c and N(t).
+    #[arg(long)]
+    no_spectra: bool,
 }
 
 /// N(t) sampled every EVERY steps.
@@ -75,10 +91,26 @@ fn verdict(v: &[TrendRun]) -> Stationarity {
     stationarity(&recs)
 }
 
+/// The N(t) of panel (c): the mean over the runs still running at each sample.
+fn mean_total(v: &[TrendRun]) -> Vec<(f64, f64)> {
+    let len = v.iter().map(|r| r.total.len()).max().unwrap_or(0);
+    (0..len)
+        .filter_map(|t| {
+            let alive: Vec<f64> = v.iter().filter_map(|r| r.total.get(t).copied()).collect();
+            (!alive.is_empty()).then(|| {
+                (
+                    ((t + 1) as u64 * EVERY) as f64,
+                    alive.iter().sum::<f64>() / alive.len() as f64,
+                )
+            })
+        })
+        .collect()
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
-    let rules = args.rules.parse()?;
-    let c = &args.common;
+    let rules = args.pipe.rules.parse()?;
+    let c = &args.pipe.common;
     c.reject_shard("waves-fig12")?; // the bisection is sequential
     let base = Params {
         p: 0.5,
@@ -92,26 +124,37 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         boundary: Boundary::Open { inject },
         ..base
     };
-    let steps: u64 = c.tier.pick(20_000, 50_000, 100_000);
+    let steps: u64 = args.steps.unwrap_or(c.tier.pick(20_000, 50_000, 100_000));
     let runs = c.runs_or(4, 8, 32);
-    let bisect_steps = c.tier.pick(5, 6, 7);
-    let geoms: &[(usize, usize)] = c.tier.pick(
-        &[(220, 11), (220, 5), (440, 11)][..],
-        &[(220, 11), (220, 5), (440, 11), (1000, 5)][..],
-        &[
-            (220, 11),
-            (220, 5),
-            (220, 21),
-            (440, 11),
-            (880, 11),
-            (1000, 5),
-        ][..],
-    );
+    let bisect_steps = args.bisections.unwrap_or(c.tier.pick(5, 6, 7));
+    let geoms: Vec<(usize, usize)> = if args.sizes.is_empty() {
+        c.tier
+            .pick(
+                &[(220, 11), (220, 5), (440, 11)][..],
+                &[(220, 11), (220, 5), (440, 11), (1000, 5)][..],
+                &[
+                    (220, 11),
+                    (220, 5),
+                    (220, 21),
+                    (440, 11),
+                    (880, 11),
+                    (1000, 5),
+                ][..],
+            )
+            .to_vec()
+    } else {
+        args.sizes.iter().map(|s| (s.length, s.width)).collect()
+    };
+    for &(l, w) in &geoms {
+        open(l, w, 0.0).validate()?; // bad sizes fail before any run
+    }
+    let (l0, w0) = geoms[0];
+    let main_pipe = format!("L = {l0}, W = {w0}");
     let start = Instant::now();
     let mut book = 0u64;
     let mut ic = Vec::new();
     let mut bisect_rows = Vec::new();
-    for &(l, w) in geoms {
+    for &(l, w) in &geoms {
         eprintln!("waves-fig12: bisection for I_c at L = {l}, W = {w}");
         let (i_c, err, log) = bisect_ic(0.0, 1.0, bisect_steps, |i| {
             let v = trend(c, rules, open(l, w, i), steps, runs)?;
@@ -141,16 +184,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut nt = Vec::new();
     for f in fracs {
         let i = round((f * i_c).min(1.0));
-        let v = trend(c, rules, open(220, 11, i), steps, runs)?;
+        let v = trend(c, rules, open(l0, w0, i), steps, runs)?;
         book += v.iter().map(|r| r.bookkeeping_errors).sum::<u64>();
         nt.push((i, verdict(&v), v));
     }
     // (a), (b) spectra of the bottom bin against I
-    let ifr: &[f64] = c.tier.pick(
-        &[0.25, 0.5, 0.9, 1.25][..],
-        &[0.1, 0.25, 0.5, 0.75, 0.9, 1.1, 1.25][..],
-        &[0.1, 0.25, 0.5, 0.75, 0.9, 1.0, 1.1, 1.25][..],
-    );
+    let ifr: &[f64] = if args.no_spectra {
+        &[]
+    } else {
+        c.tier.pick(
+            &[0.25, 0.5, 0.9, 1.25][..],
+            &[0.1, 0.25, 0.5, 0.75, 0.9, 1.1, 1.25][..],
+            &[0.1, 0.25, 0.5, 0.75, 0.9, 1.0, 1.1, 1.25][..],
+        )
+    };
     let points: Vec<SweepPoint> = ifr
         .iter()
         .map(|f| {
@@ -158,7 +205,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             SweepPoint {
                 label: format!("I{i}"),
                 x: vec![i, *f],
-                params: open(220, 11, i),
+                params: open(l0, w0, i),
             }
         })
         .collect();
@@ -191,76 +238,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &["L", "W", "i_c", "i_c_err"],
         &ic_rows,
     )?;
-    let rows: Vec<Vec<f64>> = res.iter().map(|r| r.row()).collect();
-    out.write_csv("waves-fig12b.csv", &header(&["I", "I_over_I_c"]), &rows)?;
-    let title = "PH95 Fig. 12";
-    // (a)
-    let mut lines = Vec::new();
-    for (k, r) in res.iter().enumerate() {
-        let f = r.point.x[1];
-        if [0.5, 0.9, 1.25].contains(&f) {
-            match &r.ensemble {
-                Some(e) => lines.extend(spectrum_lines(
-                    e,
-                    &format!("I = {} ({f} I_c)", r.point.x[0]),
-                    3 * k,
-                )),
-                None => eprintln!(
-                    "waves-fig12: I = {}: all runs clogged, no spectrum",
-                    r.point.x[0]
-                ),
-            }
-        }
+    if !res.is_empty() {
+        plot_spectra(&out, &res, &main_pipe, sruns, i_c, rules)?;
     }
-    line_chart_at(
-        &out.path("waves-fig12a.png"),
-        &format!("{title}a: bottom-bin spectra, open pipe L = 220, W = 11, p = b = g = 0.5, {sruns} runs"),
-        "j (frequency j/(2m) per sample of 10 steps)",
-        "P(j)",
-        &lines,
-        true,
-        SeriesLabelPosition::LowerLeft,
-    )?;
-    // (b)
-    let pts: Vec<(f64, f64, f64)> = res
-        .iter()
-        .map(|r| (r.point.x[0], r.alpha, r.alpha_err))
-        .collect();
-    errorbar_chart(
-        &out.path("waves-fig12b.png"),
-        &format!("{title}b: alpha against I, p = b = g = 0.5 (I_c = {i_c:.3}), rules {rules}"),
-        "injection rate I",
-        "alpha (mean over valid runs +- SE)",
-        &[ErrSeries::new(
-            "L = 220, W = 11 (clogged points omitted)",
-            pts,
-            PALETTE[0],
-        )],
-    )?;
     // (c)
     let nlines: Vec<Line> = nt
         .iter()
         .enumerate()
         .map(|(k, (i, s, v))| {
-            let len = v.iter().map(|r| r.total.len()).max().unwrap_or(0);
-            let pts = (0..len)
-                .filter_map(|t| {
-                    let alive: Vec<f64> =
-                        v.iter().filter_map(|r| r.total.get(t).copied()).collect();
-                    (!alive.is_empty()).then(|| {
-                        (
-                            ((t + 1) as u64 * EVERY) as f64,
-                            alive.iter().sum::<f64>() / alive.len() as f64,
-                        )
-                    })
-                })
-                .collect();
             Line::new(
                 &format!(
                     "I = {i}: {}/{} runs clogged, growth t = {:.1}",
                     s.clogged, s.runs, s.t
                 ),
-                pts,
+                mean_total(v),
                 PALETTE[k],
             )
         })
@@ -268,7 +259,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     line_chart(
         &out.path("waves-fig12c.png"),
         &format!(
-            "{title}c: N(t), L = 220, W = 11, p = b = g = 0.5, mean of {runs} runs (running ones)"
+            "PH95 Fig. 12c: N(t), {main_pipe}, p = b = g = 0.5, mean of {runs} runs (running ones)"
         ),
         "t (steps)",
         "particle number N(t)",
@@ -286,31 +277,35 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for r in &res {
         point_metrics(r, &mut metrics);
     }
-    let spread = ic
-        .iter()
-        .map(|&(_, _, i, _)| (i - i_c).abs())
-        .fold(0.0, f64::max);
-    let tol_geom = ic
-        .iter()
-        .map(|&(_, _, _, e)| 2.0 * (e * e + i_c_err * i_c_err).sqrt())
-        .fold(f64::INFINITY, f64::min);
-    metrics.insert("i_c_geometry_spread".into(), spread);
-    let checks = vec![
+    let thr = trend_threshold(runs);
+    let mut checks = vec![
         Check::claim("bookkeeping_exact", book as f64, 0.0, book == 0, "MODEL.md A7: injected - out_bottom - out_top = N(t) - N(0) at every sample of every trend run"),
         Check::claim("stationary_below_i_c", nt[0].1.t, nt[0].1.growth_err, nt[0].1.stationary,
-            &format!("N(t) at I = {} (0.5 I_c): no clog and growth t < 3 (fresh runs, same test as the bisection)", nt[0].0)),
+            &format!("N(t) at I = {} (0.5 I_c): no clog and growth t < {thr:.2} (Student t, one-sided false-alarm rate {TREND_FALSE_ALARM}; fresh runs, same test as the bisection)", nt[0].0)),
         Check::claim("growing_above_i_c", nt[2].1.t, nt[2].1.growth_err, !nt[2].1.stationary,
-            &format!("N(t) at I = {} (1.25 I_c): clogs or grows (t >= 3)", nt[2].0)),
-        Check::claim("i_c_independent_of_w_and_l", spread, 0.0, spread <= tol_geom,
-            &format!("PH95 claims no dependence on W and L: max |I_c(L, W) - I_c(220, 11)| <= 2 x combined bisection half-widths = {tol_geom:.4}")),
+            &format!("N(t) at I = {} (1.25 I_c): clogs or grows (t >= {thr:.2})", nt[2].0)),
     ];
+    if ic.len() > 1 {
+        let spread = ic
+            .iter()
+            .map(|&(_, _, i, _)| (i - i_c).abs())
+            .fold(0.0, f64::max);
+        let tol_geom = ic
+            .iter()
+            .map(|&(_, _, _, e)| 2.0 * (e * e + i_c_err * i_c_err).sqrt())
+            .fold(f64::INFINITY, f64::min);
+        metrics.insert("i_c_geometry_spread".into(), spread);
+        checks.push(Check::claim("i_c_independent_of_w_and_l", spread, 0.0, spread <= tol_geom,
+            &format!("PH95 claims no dependence on W and L: max |I_c(L, W) - I_c({l0}, {w0})| <= 2 x combined bisection half-widths = {tol_geom:.4}")));
+    }
     out.finish(&Summary {
         figure: "waves-fig12".into(),
         paper: "PH95 Fig. 12".into(),
         tier: c.tier,
         seeds: (0..runs.max(sruns) as u64).map(|i| derive_seed(c.seed, i)).collect(),
         params: json!({"base": base, "geometries": geoms, "trend_steps": steps, "trend_every": EVERY, "trend_runs": runs,
-            "bisection_steps": bisect_steps, "spectrum_runs": sruns, "I_over_I_c": ifr, "setup": setup_of(open(220, 11, i_c))}),
+            "trend_false_alarm": TREND_FALSE_ALARM, "trend_threshold": thr,
+            "bisection_steps": bisect_steps, "spectrum_runs": sruns, "I_over_I_c": ifr, "setup": setup_of(open(l0, w0, i_c))}),
         rules: rules.to_string(),
         wall_seconds: wall,
         site_updates: bisect_rows.iter().map(|r| r[0] * r[1]).sum::<f64>() * (runs as u64 * steps) as f64
@@ -318,5 +313,57 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         metrics,
         checks,
     })?;
+    Ok(())
+}
+
+/// Panels (a), bottom-bin spectra at 0.5, 0.9 and 1.25 I_c, and (b), alpha
+/// against I, with their CSV `waves-fig12b.csv`.
+fn plot_spectra(
+    out: &Output,
+    res: &[PointResult],
+    main_pipe: &str,
+    sruns: usize,
+    i_c: f64,
+    rules: Rules,
+) -> granular_automata::Result<()> {
+    let rows: Vec<Vec<f64>> = res.iter().map(|r| r.row()).collect();
+    out.write_csv("waves-fig12b.csv", &header(&["I", "I_over_I_c"]), &rows)?;
+    let mut lines = Vec::new();
+    for (k, r) in res.iter().enumerate() {
+        let f = r.point.x[1];
+        if [0.5, 0.9, 1.25].contains(&f) {
+            match &r.ensemble {
+                Some(e) => lines.extend(spectrum_lines(
+                    e,
+                    &format!("I = {} ({f} I_c)", r.point.x[0]),
+                    3 * k,
+                )),
+                None => eprintln!(
+                    "waves-fig12: I = {}: all runs clogged, no spectrum",
+                    r.point.x[0]
+                ),
+            }
+        }
+    }
+    spectra_chart(
+        &out.path("waves-fig12a.png"),
+        &format!("PH95 Fig. 12a: bottom-bin spectra, open pipe {main_pipe}, p = b = g = 0.5, {sruns} runs"),
+        &lines,
+    )?;
+    let pts: Vec<(f64, f64, f64)> = res
+        .iter()
+        .map(|r| (r.point.x[0], r.alpha, r.alpha_err))
+        .collect();
+    errorbar_chart(
+        &out.path("waves-fig12b.png"),
+        &format!("PH95 Fig. 12b: alpha against I, p = b = g = 0.5 (I_c = {i_c:.3}), rules {rules}"),
+        "injection rate I",
+        "alpha (mean over valid runs +- SE)",
+        &[ErrSeries::new(
+            &format!("{main_pipe} (clogged points omitted)"),
+            pts,
+            PALETTE[0],
+        )],
+    )?;
     Ok(())
 }

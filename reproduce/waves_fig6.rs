@@ -3,32 +3,17 @@
 //!
 //! `cargo run --release --bin waves-fig6 -- --tier quick`
 
-use clap::Parser;
-use granular_automata::cli::{Common, PipeRules};
+use granular_automata::cli::PipeArgs;
 use granular_automata::pipe::spectra::{run_figure, SpectrumFigure};
 use granular_automata::pipe::Params;
 
-#[derive(Parser)]
-#[command(about = "PH95 Fig. 6: density spectrum at p = 0.8 (alpha about 1.33)")]
-struct Args {
-    #[command(flatten)]
-    common: Common,
-    #[command(flatten)]
-    rules: PipeRules,
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = Args::parse();
+    let args = PipeArgs::parse_about("PH95 Fig. 6: density spectrum at p = 0.8 (alpha about 1.33)");
     let fig = SpectrumFigure {
         binary: "waves-fig6",
         paper: "PH95 Fig. 6",
         params: Params {
-            length: 220,
-            width: 11,
-            rho: 1.0,
             p: 0.8,
-            g: 0.5,
-            b: 0.5,
             ..Params::default()
         },
         // "about 1.33": read as +- 0.05 (2.5 times PH94's quoted error)

@@ -5,41 +5,27 @@
 //!
 //! `cargo run --release --bin waves-fig7 -- --tier quick`
 
-use clap::Parser;
-use granular_automata::cli::{Common, PipeRules};
+use granular_automata::cli::PipeArgs;
 use granular_automata::pipe::spectra::{
-    resumable_ensemble, spectrum_lines, spectrum_rows, tier_setup, tolerance, DISCREPANCY,
+    resumable_ensemble, spectra_chart, spectrum_lines, spectrum_rows, tier_setup, tolerance,
+    DISCREPANCY,
 };
 use granular_automata::pipe::Params;
-use granular_automata::plot::line_chart_at;
 use granular_automata::run::{derive_seed, mark_discrepancies, Check, Output, Summary};
-use plotters::chart::SeriesLabelPosition;
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::time::Instant;
-
-#[derive(Parser)]
-#[command(about = "PH95 Fig. 7: white-noise spectra at p = 0 and at b = 0 (peak at v = 1/2)")]
-struct Args {
-    #[command(flatten)]
-    common: Common,
-    #[command(flatten)]
-    rules: PipeRules,
-}
 
 /// "alpha about 0" read as 0 +- 0.05, as "about 1.33" in PH95 Fig. 6.
 const WHITE: (f64, f64) = (0.0, 0.05);
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = Args::parse();
+    let args = PipeArgs::parse_about(
+        "PH95 Fig. 7: white-noise spectra at p = 0 and at b = 0 (peak at v = 1/2)",
+    );
     let rules = args.rules.parse()?;
-    let base = Params {
-        length: 220,
-        width: 11,
-        rho: 1.0,
-        g: 0.5,
-        ..Params::default()
-    };
+    // L = 220, W = 11, rho = 1, g = 0.5
+    let base = Params::default();
     let cases = [
         (
             "p0",
@@ -86,14 +72,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let mut lines = spectrum_lines(&ens[0], "p = 0, b = 0.5", 0);
     lines.extend(spectrum_lines(&ens[1], "b = 0, p = 0.5", 3));
-    line_chart_at(
+    spectra_chart(
         &out.path("waves-fig7.png"),
         &format!("PH95 Fig. 7: spectra without dissipation or roughness, L = 220, {runs} runs, rules {rules}"),
-        "j (frequency j/(2m) per sample of 10 steps)",
-        "P(j)",
         &lines,
-        true,
-        SeriesLabelPosition::LowerLeft,
     )?;
 
     let mut metrics = BTreeMap::new();

@@ -7,18 +7,13 @@
 //! `cargo run --release --bin waves-fig9 -- --tier quick`
 
 use clap::Parser;
-use granular_automata::cli::{Common, PipeRules};
-use granular_automata::pipe::spectra::tier_setup;
-use granular_automata::pipe::sweep::{
-    header, plot_alpha_v, point_metrics, run_sweep, site_updates, Curve, SweepPoint,
-};
+use granular_automata::cli::PipeArgs;
+use granular_automata::pipe::sweep::{plot_alpha_v, points_1d, Curve, SweepFigure};
 use granular_automata::pipe::Params;
 use granular_automata::plot::{errorbar_chart_at, ErrSeries, PALETTE};
-use granular_automata::run::{derive_seed, Check, Output, Summary};
+use granular_automata::run::Check;
 use plotters::chart::SeriesLabelPosition;
 use serde_json::json;
-use std::collections::BTreeMap;
-use std::time::Instant;
 
 #[derive(Parser)]
 #[command(
@@ -26,56 +21,57 @@ use std::time::Instant;
 )]
 struct Args {
     #[command(flatten)]
-    common: Common,
-    #[command(flatten)]
-    rules: PipeRules,
+    pipe: PipeArgs,
+    /// The densities, separated by commas, e.g. `--rho 1.8,1.9,2.0,2.1` to
+    /// locate the validity limit (default by tier; quick:
+    /// 0.2,0.6,1,1.4,2,3). Sorted; the largest is the one that must reach
+    /// the limit.
+    #[arg(long, value_delimiter = ',')]
+    rho: Vec<f64>,
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
-    let rules = args.rules.parse()?;
-    let c = &args.common;
-    let rhos: &[f64] = c.tier.pick(
-        &[0.2, 0.6, 1.0, 1.4, 2.0, 3.0][..],
-        &[0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.5, 3.0][..],
-        &[
-            0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.2, 2.5, 3.0,
-        ][..],
-    );
-    let base = Params {
-        length: 220,
-        width: 11,
-        p: 0.5,
-        g: 0.5,
-        b: 0.5,
-        ..Params::default()
+    let mut rhos: Vec<f64> = if args.rho.is_empty() {
+        args.pipe
+            .common
+            .tier
+            .pick(
+                &[0.2, 0.6, 1.0, 1.4, 2.0, 3.0][..],
+                &[0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.5, 3.0][..],
+                &[
+                    0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.2, 2.5, 3.0,
+                ][..],
+            )
+            .to_vec()
+    } else {
+        args.rho.clone()
     };
-    let points: Vec<SweepPoint> = rhos
-        .iter()
-        .map(|&rho| SweepPoint {
-            label: format!("rho{rho}"),
-            x: vec![rho],
-            params: Params { rho, ..base },
-        })
-        .collect();
-    let runs = c.runs_or(2, 8, 32);
-    let setup_of = |p| tier_setup(c.tier, p, rules);
-    let start = Instant::now();
-    let Some(res) = run_sweep(c, "waves-fig9", &points, runs, setup_of)? else {
+    rhos.sort_by(f64::total_cmp);
+    rhos.dedup();
+    // p = b = g = 0.5
+    let base = Params::default();
+    let points = points_1d("rho", &rhos, |rho| Params { rho, ..base });
+    for p in &points {
+        p.params.validate()?; // a bad --rho fails before any run
+    }
+    let Some(fig) = SweepFigure::run("waves-fig9", "PH95 Fig. 9", &args.pipe, points)? else {
         return Ok(());
     };
-    let wall = start.elapsed().as_secs_f64();
+    let (res, runs) = (&fig.results, fig.runs);
 
-    let out = Output::new(&c.out, "waves-fig9")?;
-    let rows: Vec<Vec<f64>> = res.iter().map(|r| r.row()).collect();
-    out.write_csv("waves-fig9.csv", &header(&["rho"]), &rows)?;
-    let all: Vec<_> = res.iter().collect();
-    let title = format!("PH95 Fig. 9: L = 220, p = b = g = 0.5, {runs} runs/point, rules {rules}");
+    let all = fig.all();
+    fig.write_csv("waves-fig9.csv", &["rho"], &all)?;
+    let title = format!(
+        "PH95 Fig. 9: L = 220, p = b = g = 0.5, {runs} runs/point, rules {}",
+        fig.rules
+    );
+    let xlabel = "mean density rho (particles per site)";
     plot_alpha_v(
-        out.dir(),
+        fig.out.dir(),
         "waves-fig9",
         &title,
-        "mean density rho (particles per site)",
+        xlabel,
         &[Curve {
             label: "valid runs only",
             points: &all,
@@ -87,17 +83,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|r| (r.point.x[0], r.invalid as f64 / runs as f64, 0.0))
         .collect();
     errorbar_chart_at(
-        &out.path("waves-fig9_validity.png"),
+        &fig.out.path("waves-fig9_validity.png"),
         &format!("{title}: model validity (MODEL.md A4)"),
-        "mean density rho (particles per site)",
+        xlabel,
         "fraction of runs stopped: rest particles exceed sites",
         &[ErrSeries::new("invalid runs / runs", frac, PALETTE[1])],
         SeriesLabelPosition::UpperLeft,
     )?;
 
-    let mut metrics = BTreeMap::new();
-    for r in &res {
-        point_metrics(r, &mut metrics);
+    let mut metrics = fig.metrics();
+    for r in res {
         metrics.insert(
             format!("invalid_fraction_{}", r.point.label),
             r.invalid as f64 / runs as f64,
@@ -112,8 +107,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(x) = all_inv {
         metrics.insert("rho_limit_all_invalid".into(), x);
     }
-    let below: Vec<_> = res.iter().filter(|r| r.point.x[0] <= 1.0).collect();
-    let invalid_below: usize = below.iter().map(|r| r.invalid).sum();
+    let invalid_below: usize = res
+        .iter()
+        .filter(|r| r.point.x[0] <= 1.0)
+        .map(|r| r.invalid)
+        .sum();
     let last = res.last().expect("at least one point");
     let checks = vec![
         Check::claim(
@@ -134,17 +132,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ),
         ),
     ];
-    out.finish(&Summary {
-        figure: "waves-fig9".into(),
-        paper: "PH95 Fig. 9".into(),
-        tier: c.tier,
-        seeds: (0..runs as u64).map(|i| derive_seed(c.seed, i)).collect(),
-        params: json!({"base": base, "rho": rhos, "setup": setup_of(base)}),
-        rules: rules.to_string(),
-        wall_seconds: wall,
-        site_updates: site_updates(&points, runs, setup_of),
+    fig.finish(
+        json!({"base": base, "rho": rhos, "setup": fig.setup_of(base)}),
         metrics,
         checks,
-    })?;
+    )?;
     Ok(())
 }

@@ -1,6 +1,10 @@
 //! Command-line options shared by every figure binary (the output contract
 //! of DEVELOPERS.md): `--tier`, `--seed`, `--runs`, `--rules`, `--out`; and
 //! those of the PH95 wave figures (Figs. 2-5), with `--p`.
+//!
+//! A pipe figure whose options are just these parses them with
+//! [`PipeArgs::parse_about`]; one with options of its own flattens
+//! [`PipeArgs`] into its `clap::Parser`.
 
 use crate::ensemble::{Ensemble, Shard};
 use crate::pipe::record::fig1_pipe;
@@ -43,6 +47,27 @@ pub struct PipeRules {
     pub rules: String,
 }
 
+/// The options of a pipe figure: [`Common`] and `--rules`.
+#[derive(Debug, Clone, clap::Parser)]
+pub struct PipeArgs {
+    /// `--tier`, `--seed`, `--runs`, `--out`, `--shard`, `--threads`.
+    #[command(flatten)]
+    pub common: Common,
+    /// `--rules`.
+    #[command(flatten)]
+    pub rules: PipeRules,
+}
+
+impl PipeArgs {
+    /// Parse the command line of a figure binary whose `--help` starts with
+    /// `about` (exits with clap's message on bad input or `--help`).
+    pub fn parse_about(about: &'static str) -> Self {
+        use clap::{CommandFactory, FromArgMatches};
+        let matches = Self::command().about(about).get_matches();
+        Self::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+    }
+}
+
 impl PipeRules {
     /// Parse the rules; `help` prints the known names and exits.
     pub fn parse(&self) -> crate::Result<Rules> {
@@ -53,6 +78,20 @@ impl PipeRules {
             std::process::exit(0);
         }
         self.rules.parse()
+    }
+
+    /// Start figure `binary` reproducing `paper` with these rules and the
+    /// options `common`: the figure (its clock running), the parsed rules,
+    /// and `common`.
+    pub fn start<'c>(
+        &self,
+        common: &'c Common,
+        binary: &'static str,
+        paper: &'static str,
+    ) -> crate::Result<(Figure, Rules, &'c Common)> {
+        let rules = self.parse()?;
+        let fig = Figure::start(binary, paper, common.tier, rules.to_string());
+        Ok((fig, rules, common))
     }
 }
 
@@ -79,9 +118,7 @@ impl WaveOptions {
         binary: &'static str,
         paper: &'static str,
     ) -> crate::Result<(Figure, Rules, &Common)> {
-        let rules = self.rules.parse()?;
-        let fig = Figure::start(binary, paper, self.common.tier, rules.to_string());
-        Ok((fig, rules, &self.common))
+        self.rules.start(&self.common, binary, paper)
     }
 
     /// The pipe of the PH95 wave figures, `length` rows in bins of `bin`

@@ -70,21 +70,13 @@ impl FromStr for Shard {
 
     /// Parse `i/n` with 0 <= i < n (e.g. `$SLURM_ARRAY_TASK_ID/8`).
     fn from_str(s: &str) -> Result<Self> {
-        let bad = || {
-            Error::new(
-                ErrorKind::InvalidParameter,
-                format!(
-                    "--shard {s:?} is not of the form i/n with 0 <= i < n (e.g. 0/4 .. 3/4); \
-                     write the shard index, a slash and the number of shards"
-                ),
-            )
-        };
-        let (i, n) = s.split_once('/').ok_or_else(bad)?;
-        let index: usize = i.trim().parse().map_err(|_| bad())?;
-        let count: usize = n.trim().parse().map_err(|_| bad())?;
-        if count == 0 || index >= count {
-            return Err(bad());
-        }
+        let (index, count) = crate::error::parse_pair(
+            s,
+            '/',
+            "--shard",
+            "i/n with 0 <= i < n (e.g. 0/4 .. 3/4); write the shard index, a slash and the number of shards",
+            |i, n| i < n,
+        )?;
         Ok(Shard { index, count })
     }
 }

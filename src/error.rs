@@ -96,6 +96,29 @@ pub fn check_min(name: &str, value: usize, min: usize) -> Result<()> {
     }
 }
 
+/// Parse an option value of the form `a<sep>b`, two whole numbers with
+/// `ok(a, b)`, e.g. a shard `2/8` or a pipe size `220x11`. Otherwise an
+/// [`ErrorKind::InvalidParameter`] error "`{name} {s:?} is not of the form
+/// {form}`" (`form` ends with the fix).
+pub fn parse_pair(
+    s: &str,
+    sep: char,
+    name: &str,
+    form: &str,
+    ok: impl Fn(usize, usize) -> bool,
+) -> Result<(usize, usize)> {
+    let pair = s.split_once(sep).and_then(|(a, b)| {
+        let (a, b) = (a.trim().parse().ok()?, b.trim().parse().ok()?);
+        ok(a, b).then_some((a, b))
+    });
+    pair.ok_or_else(|| {
+        Error::new(
+            ErrorKind::InvalidParameter,
+            format!("{name} {s:?} is not of the form {form}"),
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,8 +10,10 @@
 //! - [`waves`]: the wave speed from the spectra of a stack of density fields.
 //! - [`relaxation`]: the approach of an ensemble of series to saturation
 //!   (half-times, window means; PH95 Fig. 3).
+//! - [`stats`]: Student's t tail and critical values for one-sided tests.
 
 pub mod fit;
 pub mod relaxation;
 pub mod spectrum;
+pub mod stats;
 pub mod waves;

@@ -293,15 +293,8 @@ pub fn grade(
         let setup = tier_setup(size.spectrum_tier, params, rules);
         spectrum_ensemble(&setup, &seeds, tick)
     };
-    let s_base = Params {
-        length: 220,
-        width: 11,
-        rho: 1.0,
-        p: 0.5,
-        g: 0.5,
-        b: 0.5,
-        ..Params::default()
-    };
+    // PH94 Fig. 2: L = 220, W = 11, rho = 1, p = g = b = 0.5
+    let s_base = Params::default();
     let fig2 = spec(s_base)?;
     out.push(g(
         "alpha_fig2",

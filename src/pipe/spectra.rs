@@ -197,13 +197,19 @@ pub fn combine(setup: &SpectrumSetup, runs: Vec<SpectrumRun>) -> Result<Spectrum
 /// Log-log plot of the averaged spectrum with the fitted line over the fit
 /// range and the peak marked.
 pub fn plot_spectrum(path: &Path, title: &str, ens: &SpectrumEnsemble, label: &str) -> Result<()> {
-    let lines = spectrum_lines(ens, label, 0);
+    spectra_chart(path, title, &spectrum_lines(ens, label, 0))
+}
+
+/// Log-log chart of spectra against j (lines from [`spectrum_lines`]), the
+/// legend at the lower left. The samples are T0 = 10 steps apart at every
+/// tier ([`tier_setup`]).
+pub fn spectra_chart(path: &Path, title: &str, lines: &[Line]) -> Result<()> {
     line_chart_at(
         path,
         title,
-        "j (frequency j/(2m) per sample of T0 steps)",
+        "j (frequency j/(2m) per sample of 10 steps)",
         "P(j)",
-        &lines,
+        lines,
         true,
         SeriesLabelPosition::LowerLeft,
     )

@@ -9,7 +9,7 @@
 //! model ends.
 
 use super::spectra::{bin_spectrum, combine, SpectrumEnsemble, SpectrumRun, SpectrumSetup};
-use super::Params;
+use super::{Params, Rules};
 use crate::error::{ErrorKind, Result};
 use crate::run::mean_sem;
 use serde::{Deserialize, Serialize};
@@ -225,11 +225,299 @@ pub fn exceeds(a: (f64, f64), b: (f64, f64), z: f64) -> bool {
     a.0.is_finite() && b.0.is_finite() && a.0 - b.0 > z * e
 }
 
+/// One curve of a sweep plot: a label and the points, with the index of the
+/// swept value in [`SweepPoint::x`] used as abscissa.
+#[derive(Debug, Clone, Copy)]
+pub struct Curve<'a> {
+    /// Legend label.
+    pub label: &'a str,
+    /// The points of the curve.
+    pub points: &'a [&'a PointResult],
+    /// Which entry of `x` is the abscissa.
+    pub xi: usize,
+}
+
+/// What a sweep chart shows on its vertical axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// alpha, mean over runs with its standard error.
+    Alpha,
+    /// The wave velocity from the spectral peak, mean over runs with its SE.
+    V,
+}
+
+impl Quantity {
+    /// `alpha` or `v` (the suffix of the PNG names of [`plot_alpha_v`]).
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Alpha => "alpha",
+            Quantity::V => "v",
+        }
+    }
+
+    /// The axis label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Quantity::Alpha => "alpha (mean over runs +- SE)",
+            Quantity::V => "v from the spectral peak, rows/step (mean +- SE)",
+        }
+    }
+
+    /// (value, standard error) of a point.
+    pub fn of(self, r: &PointResult) -> (f64, f64) {
+        match self {
+            Quantity::Alpha => (r.alpha, r.alpha_err),
+            Quantity::V => (r.v, r.v_err),
+        }
+    }
+}
+
+/// Plot `q` against the swept parameter with error bars (one standard error
+/// over runs), one series per curve in the palette's order, to `path`.
+pub fn sweep_chart(
+    path: &std::path::Path,
+    title: &str,
+    xlabel: &str,
+    q: Quantity,
+    curves: &[Curve],
+    legend: plotters::chart::SeriesLabelPosition,
+) -> Result<()> {
+    use crate::plot::{errorbar_chart_at, ErrSeries, PALETTE};
+    let series: Vec<ErrSeries> = curves
+        .iter()
+        .enumerate()
+        .map(|(c, cv)| {
+            let pts = cv
+                .points
+                .iter()
+                .map(|r| {
+                    let (y, e) = q.of(r);
+                    (r.point.x[cv.xi], y, e)
+                })
+                .collect();
+            ErrSeries::new(cv.label, pts, PALETTE[c % PALETTE.len()])
+        })
+        .collect();
+    errorbar_chart_at(path, title, xlabel, q.label(), &series, legend)
+}
+
+/// Plot alpha (`<stem>_alpha.png`) and v (`<stem>_v.png`) against the swept
+/// parameter with error bars (one standard error over runs).
+pub fn plot_alpha_v(
+    dir: &std::path::Path,
+    stem: &str,
+    title: &str,
+    xlabel: &str,
+    curves: &[Curve],
+) -> Result<()> {
+    use plotters::chart::SeriesLabelPosition;
+    for (q, legend) in [
+        (Quantity::Alpha, SeriesLabelPosition::UpperLeft),
+        (Quantity::V, SeriesLabelPosition::LowerRight),
+    ] {
+        sweep_chart(
+            &dir.join(format!("{stem}_{}.png", q.name())),
+            &format!("{title}: {}", q.name()),
+            xlabel,
+            q,
+            curves,
+            legend,
+        )?;
+    }
+    Ok(())
+}
+
+/// Metrics of a point: `alpha_<label>`, `alpha_<label>_err`, `v_<label>`,
+/// `v_<label>_err`, and `invalid_<label>` when any run was invalid.
+pub fn point_metrics(r: &PointResult, m: &mut std::collections::BTreeMap<String, f64>) {
+    let l = &r.point.label;
+    m.insert(format!("alpha_{l}"), r.alpha);
+    m.insert(format!("alpha_{l}_err"), r.alpha_err);
+    m.insert(format!("v_{l}"), r.v);
+    m.insert(format!("v_{l}_err"), r.v_err);
+    if r.invalid > 0 {
+        m.insert(format!("invalid_runs_{l}"), r.invalid as f64);
+    }
+}
+
+/// Reference values of PH95 Fig. 7's set-ups measured by `waves-fig7`
+/// (quick tier, seed 1, 4 runs, default reading `ph94+gravity-first+wall-move`,
+/// EXPERIMENTS.md): alpha at p = 0 (b = 0.5) and at b = 0 (p = 0.5), each
+/// (value, standard error over runs). With `ph94`, the default until
+/// session 2: (-0.5595, 0.0147) and (-1.4494, 0.1264).
+pub const FIG7_QUICK_ALPHA_P0: (f64, f64) = (-0.6019, 0.0217);
+/// See [`FIG7_QUICK_ALPHA_P0`]: alpha at b = 0, p = 0.5.
+pub const FIG7_QUICK_ALPHA_B0: (f64, f64) = (-3.0229, 0.0966);
+
+/// Check that a sweep point agrees with a `waves-fig7` reference value
+/// within 3 combined standard errors (false-alarm rate ~0.3% for normal
+/// errors; the reference is the quick tier, so at other tiers a change of
+/// alpha with m also shows as a failure).
+pub fn fig7_check(
+    name: &str,
+    r: &PointResult,
+    reference: (f64, f64),
+    what: &str,
+) -> crate::run::Check {
+    let tol = 3.0 * (r.alpha_err.powi(2) + reference.1.powi(2)).sqrt();
+    crate::run::Check::claim(
+        name,
+        r.alpha,
+        r.alpha_err,
+        r.alpha.is_finite() && (r.alpha - reference.0).abs() <= tol,
+        &format!(
+            "internal consistency: alpha at {what} agrees with waves-fig7 ({:.4} +- {:.4}, quick tier, seed 1, 4 runs, default reading) within 3 combined SE = {tol:.4}",
+            reference.0, reference.1
+        ),
+    )
+}
+
+/// The points of a one-parameter sweep: for each value v, the label
+/// `<name><v>` (e.g. `p0.05`), x = [v] and the pipe `set(v)`.
+pub fn points_1d(name: &str, values: &[f64], set: impl Fn(f64) -> Params) -> Vec<SweepPoint> {
+    values
+        .iter()
+        .map(|&v| SweepPoint {
+            label: format!("{name}{v}"),
+            x: vec![v],
+            params: set(v),
+        })
+        .collect()
+}
+
+/// Check that alpha rises from the point `lo` (named `lo_at`, e.g.
+/// `p = 0`) to `hi` by more than 3 combined standard errors (one-sided,
+/// false-alarm rate ~0.13% for normal errors).
+pub fn rise_check(
+    name: &str,
+    lo: &PointResult,
+    hi: &PointResult,
+    lo_at: &str,
+    hi_at: &str,
+) -> crate::run::Check {
+    crate::run::Check::claim(
+        name,
+        hi.alpha - lo.alpha,
+        (hi.alpha_err.powi(2) + lo.alpha_err.powi(2)).sqrt(),
+        exceeds((hi.alpha, hi.alpha_err), (lo.alpha, lo.alpha_err), 3.0),
+        &format!(
+            "internal consistency (PH95 Figs. 2, 7): alpha({hi_at}) - alpha({lo_at}) > 3 combined SE"
+        ),
+    )
+}
+
+/// A sweep figure (PH95 Figs. 8-10) after its runs: the figure (name, paper,
+/// clock), the options, every point's result and the output folder. Made by
+/// [`SweepFigure::run`]; the binary writes its CSVs and plots through it and
+/// ends with [`SweepFigure::finish`].
+pub struct SweepFigure<'a> {
+    /// The figure: binary name (also the output folder), paper, tier, rules.
+    pub figure: crate::run::Figure,
+    /// The command-line options.
+    pub args: &'a crate::cli::PipeArgs,
+    /// The parsed rule reading.
+    pub rules: Rules,
+    /// Runs per point.
+    pub runs: usize,
+    /// The points, in order.
+    pub points: Vec<SweepPoint>,
+    /// The result of each point, in the order of `points`.
+    pub results: Vec<PointResult>,
+    /// The output folder `OUT/<binary>/`.
+    pub out: crate::run::Output,
+}
+
+impl<'a> SweepFigure<'a> {
+    /// Run every point of figure `binary` (reproducing `paper`) with
+    /// `--runs` runs (default by tier: quick 2, standard 8, paper 32),
+    /// spectra of the tier's set-up ([`super::spectra::tier_setup`]),
+    /// through [`run_sweep`]. `None` when only a shard was computed.
+    pub fn run(
+        binary: &'static str,
+        paper: &'static str,
+        args: &'a crate::cli::PipeArgs,
+        points: Vec<SweepPoint>,
+    ) -> Result<Option<Self>> {
+        let (figure, rules, c) = args.rules.start(&args.common, binary, paper)?;
+        let runs = c.runs_or(2, 8, 32);
+        let setup_of = |p| super::spectra::tier_setup(c.tier, p, rules);
+        let Some(results) = run_sweep(c, binary, &points, runs, setup_of)? else {
+            return Ok(None);
+        };
+        let out = figure.output(&c.out)?;
+        Ok(Some(SweepFigure {
+            figure,
+            args,
+            rules,
+            runs,
+            points,
+            results,
+            out,
+        }))
+    }
+
+    /// The spectrum set-up of a pipe at this figure's tier and rules.
+    pub fn setup_of(&self, params: Params) -> SpectrumSetup {
+        super::spectra::tier_setup(self.args.common.tier, params, self.rules)
+    }
+
+    /// Every result, in point order.
+    pub fn all(&self) -> Vec<&PointResult> {
+        self.results.iter().collect()
+    }
+
+    /// The result of the point labelled `label` (panics if there is none:
+    /// the binary asks only for points it made).
+    pub fn find(&self, label: &str) -> &PointResult {
+        self.results
+            .iter()
+            .find(|r| r.point.label == label)
+            .unwrap_or_else(|| panic!("{}: no sweep point {label}", self.figure.binary))
+    }
+
+    /// Write `name` with the swept columns `x_names` and one row per result
+    /// ([`PointResult::row`], [`header`]).
+    pub fn write_csv(&self, name: &str, x_names: &[&str], results: &[&PointResult]) -> Result<()> {
+        let rows: Vec<Vec<f64>> = results.iter().map(|r| r.row()).collect();
+        self.out.write_csv(name, &header(x_names), &rows)?;
+        Ok(())
+    }
+
+    /// The metrics of every point ([`point_metrics`]).
+    pub fn metrics(&self) -> std::collections::BTreeMap<String, f64> {
+        let mut m = std::collections::BTreeMap::new();
+        for r in &self.results {
+            point_metrics(r, &mut m);
+        }
+        m
+    }
+
+    /// Write `summary.json` (seeds and site updates of every point added
+    /// here; `params` as given) and print the checks.
+    pub fn finish(
+        &self,
+        params: serde_json::Value,
+        metrics: std::collections::BTreeMap<String, f64>,
+        checks: Vec<crate::run::Check>,
+    ) -> Result<()> {
+        let seed = self.args.common.seed;
+        self.figure.finish(
+            &self.out,
+            (0..self.runs as u64)
+                .map(|i| crate::run::derive_seed(seed, i))
+                .collect(),
+            params,
+            site_updates(&self.points, self.runs, |p| self.setup_of(p)),
+            metrics,
+            checks,
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::pipe::spectra::tier_setup;
-    use crate::pipe::Rules;
     use crate::run::Tier;
 
     #[test]
@@ -264,115 +552,4 @@ mod tests {
         assert!(exceeds((1.0, 0.1), (0.0, 0.1), 3.0));
         assert!(!exceeds((1.0, 0.5), (0.0, 0.5), 3.0));
     }
-}
-
-/// One curve of a sweep plot: a label and the points, with the index of the
-/// swept value in [`SweepPoint::x`] used as abscissa.
-#[derive(Debug, Clone, Copy)]
-pub struct Curve<'a> {
-    /// Legend label.
-    pub label: &'a str,
-    /// The points of the curve.
-    pub points: &'a [&'a PointResult],
-    /// Which entry of `x` is the abscissa.
-    pub xi: usize,
-}
-
-/// Plot alpha (`<stem>_alpha.png`) and v (`<stem>_v.png`) against the swept
-/// parameter with error bars (one standard error over runs).
-pub fn plot_alpha_v(
-    dir: &std::path::Path,
-    stem: &str,
-    title: &str,
-    xlabel: &str,
-    curves: &[Curve],
-) -> Result<()> {
-    use crate::plot::{errorbar_chart_at, ErrSeries, PALETTE};
-    use plotters::chart::SeriesLabelPosition;
-    for (what, ylabel, name, legend) in [
-        (
-            0,
-            "alpha (mean over runs +- SE)",
-            "alpha",
-            SeriesLabelPosition::UpperLeft,
-        ),
-        (
-            1,
-            "v from the spectral peak, rows/step (mean +- SE)",
-            "v",
-            SeriesLabelPosition::LowerRight,
-        ),
-    ] {
-        let series: Vec<ErrSeries> = curves
-            .iter()
-            .enumerate()
-            .map(|(c, cv)| {
-                let pts = cv
-                    .points
-                    .iter()
-                    .map(|r| {
-                        let x = r.point.x[cv.xi];
-                        if what == 0 {
-                            (x, r.alpha, r.alpha_err)
-                        } else {
-                            (x, r.v, r.v_err)
-                        }
-                    })
-                    .collect();
-                ErrSeries::new(cv.label, pts, PALETTE[c % PALETTE.len()])
-            })
-            .collect();
-        errorbar_chart_at(
-            &dir.join(format!("{stem}_{name}.png")),
-            &format!("{title}: {name}"),
-            xlabel,
-            ylabel,
-            &series,
-            legend,
-        )?;
-    }
-    Ok(())
-}
-
-/// Metrics of a point: `alpha_<label>`, `alpha_<label>_err`, `v_<label>`,
-/// `v_<label>_err`, and `invalid_<label>` when any run was invalid.
-pub fn point_metrics(r: &PointResult, m: &mut std::collections::BTreeMap<String, f64>) {
-    let l = &r.point.label;
-    m.insert(format!("alpha_{l}"), r.alpha);
-    m.insert(format!("alpha_{l}_err"), r.alpha_err);
-    m.insert(format!("v_{l}"), r.v);
-    m.insert(format!("v_{l}_err"), r.v_err);
-    if r.invalid > 0 {
-        m.insert(format!("invalid_runs_{l}"), r.invalid as f64);
-    }
-}
-
-/// Reference values of PH95 Fig. 7's set-ups measured by `waves-fig7`
-/// (quick tier, seed 1, 4 runs, EXPERIMENTS.md): alpha at p = 0 (b = 0.5) and
-/// at b = 0 (p = 0.5), each (value, standard error over runs).
-pub const FIG7_QUICK_ALPHA_P0: (f64, f64) = (-0.5595, 0.0147);
-/// See [`FIG7_QUICK_ALPHA_P0`]: alpha at b = 0, p = 0.5.
-pub const FIG7_QUICK_ALPHA_B0: (f64, f64) = (-1.4494, 0.1264);
-
-/// Check that a sweep point agrees with a `waves-fig7` reference value
-/// within 3 combined standard errors (false-alarm rate ~0.3% for normal
-/// errors; the reference is the quick tier, so at other tiers a change of
-/// alpha with m also shows as a failure).
-pub fn fig7_check(
-    name: &str,
-    r: &PointResult,
-    reference: (f64, f64),
-    what: &str,
-) -> crate::run::Check {
-    let tol = 3.0 * (r.alpha_err.powi(2) + reference.1.powi(2)).sqrt();
-    crate::run::Check::claim(
-        name,
-        r.alpha,
-        r.alpha_err,
-        r.alpha.is_finite() && (r.alpha - reference.0).abs() <= tol,
-        &format!(
-            "internal consistency: alpha at {what} agrees with waves-fig7 ({:.4} +- {:.4}, quick tier, seed 1, 4 runs) within 3 combined SE = {tol:.4}",
-            reference.0, reference.1
-        ),
-    )
 }
