@@ -233,6 +233,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // checks: the default reading's grades
     let default = Rules::default();
+    // issue 4: how many claims the default reproduces (null when the default
+    // is not among --readings) and how many were graded
+    let default_reproduced = rows
+        .iter()
+        .find(|(r, _)| *r == default)
+        .map(|(_, g)| {
+            g.iter()
+                .filter(|g| g.verdict == Verdict::Reproduced)
+                .count() as f64
+        })
+        .unwrap_or(f64::NAN);
+    metrics.insert("default_reproduced".into(), default_reproduced);
+    metrics.insert("claims".into(), CLAIMS.len() as f64);
     let checks: Vec<Check> = rows
         .iter()
         .filter(|(r, _)| *r == default)
@@ -248,7 +261,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             })
         })
         .collect();
-    out.finish(&Summary {
+    let summary_path = out.finish(&Summary {
         figure: "pipe-matrix".into(),
         paper: "PH94 Figs. 1-2, PH95 Figs. 6-7 (MODEL.md A10)".into(),
         tier,
@@ -261,6 +274,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         metrics,
         checks,
     })?;
+    // the matrix as a list in summary.json (issue 4)
+    let matrix: Vec<serde_json::Value> = rows
+        .iter()
+        .flat_map(|(r, graded)| {
+            graded.iter().map(move |g| {
+                json!({"variant": r.to_string(), "claim": g.claim, "status": g.verdict.status(),
+                       "measured": g.measured, "error": g.error})
+            })
+        })
+        .collect();
+    let mut summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary_path)?)?;
+    summary["matrix"] = json!(matrix);
+    write_atomic(
+        &summary_path,
+        serde_json::to_string_pretty(&summary)?.as_bytes(),
+    )?;
     println!(
         "{}",
         std::fs::read_to_string(out.path("matrix.md"))?

@@ -40,6 +40,16 @@ fn matrix_grades_every_claim_and_resumes_from_its_cache() {
         "a header and 11 graded claims:\n{csv}"
     );
     assert!(csv.contains("ph94,waves_1a,yes"), "{csv}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let m = s["matrix"].as_array().unwrap();
+    assert_eq!(m.len(), 11);
+    assert_eq!(m[0]["variant"], "ph94");
+    assert_eq!(m[0]["claim"], "waves_1a");
+    assert_eq!(m[0]["status"], "reproduced");
+    assert_eq!(s["metrics"]["claims"], 11.0);
+    // the default reading is not among --readings here
+    assert!(s["metrics"]["default_reproduced"].is_null());
     let second = run();
     assert!(
         second < first / 3.0,

@@ -24,6 +24,15 @@ pub enum Verdict {
 }
 
 impl Verdict {
+    /// The status name of summary.json's `matrix` (issue 4).
+    pub fn status(self) -> &'static str {
+        match self {
+            Verdict::Reproduced => "reproduced",
+            Verdict::NotReproduced => "not-reproduced",
+            Verdict::Undecided => "undecided",
+        }
+    }
+
     /// One-word label for tables.
     pub fn label(self) -> &'static str {
         match self {
