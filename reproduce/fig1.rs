@@ -11,6 +11,7 @@
 
 use clap::Parser;
 use granular_automata::cli::{Common, PipeRules};
+use granular_automata::pipe::claims::WAVE_THRESHOLD;
 use granular_automata::pipe::record::{fig1_panels, fig1_pipe, Bands, Record};
 use granular_automata::plot::{plot_err, png, value_range, SpaceTime};
 use granular_automata::run::{mean_sem_by, stat_metrics, Check, Figure};
@@ -29,10 +30,6 @@ struct Args {
     rules: PipeRules,
 }
 
-/// S(1..3) above twice its random-start value (lower 2-sigma bound) means
-/// travelling bands; below it (upper 2-sigma bound), none. The factor 2 is
-/// fixed a priori: an uncorrelated gas gives 1.
-const WAVE_THRESHOLD: f64 = 2.0;
 const PANELS: [&str; 4] = ["a", "b", "c", "d"];
 
 #[derive(Debug, Clone, Serialize, Deserialize)]

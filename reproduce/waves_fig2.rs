@@ -13,6 +13,7 @@
 
 use clap::Parser;
 use granular_automata::cli::WaveOptions;
+use granular_automata::pipe::claims::WAVE_THRESHOLD;
 use granular_automata::pipe::overlap::real_space_speed;
 use granular_automata::pipe::record::{bands, record, Record};
 use granular_automata::pipe::Pipe;
@@ -28,8 +29,6 @@ struct Args {
     wave: WaveOptions,
 }
 
-/// Waves if s_low - 2 SE > 2 (as in fig1; an uncorrelated gas gives 1).
-const WAVE_THRESHOLD: f64 = 2.0;
 const STEPS: u64 = 40_000;
 const EVERY: u64 = 80;
 const SNAP_EVERY: u64 = 2000;
