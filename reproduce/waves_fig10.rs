@@ -11,7 +11,6 @@ use granular_automata::pipe::sweep::{
     FIG7_QUICK_ALPHA_B0,
 };
 use granular_automata::pipe::Params;
-use plotters::chart::SeriesLabelPosition;
 use serde_json::json;
 
 /// The smaller gravity of panel (b).
@@ -125,7 +124,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             xlabel,
             q,
             &curves,
-            SeriesLabelPosition::UpperRight,
+            None,
         )?;
     }
 

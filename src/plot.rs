@@ -552,7 +552,8 @@ impl ErrSeries {
 }
 
 /// Draw points with vertical error bars (y +- err), joined by thin lines,
-/// on linear axes to `path` (PNG), legend at the upper right.
+/// on linear axes to `path` (PNG), legend in the corner that covers the
+/// fewest points ([`free_corner`]).
 pub fn errorbar_chart(
     path: &Path,
     title: &str,
@@ -560,14 +561,48 @@ pub fn errorbar_chart(
     ylabel: &str,
     series: &[ErrSeries],
 ) -> Result<()> {
-    errorbar_chart_at(
-        path,
-        title,
-        xlabel,
-        ylabel,
-        series,
-        SeriesLabelPosition::UpperRight,
-    )
+    errorbar_chart_at(path, title, xlabel, ylabel, series, free_corner(series))
+}
+
+/// The legend corner of an error-bar chart that hides the fewest points and
+/// error-bar ends: the legend box is taken as 45% of the width and 8% of the
+/// height per series (plus 6%), the data scaled to the chart's bounds. Ties
+/// go to upper right, upper left, lower right, lower left, in that order.
+pub fn free_corner(series: &[ErrSeries]) -> SeriesLabelPosition {
+    let pts: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|&&(x, y, _)| x.is_finite() && y.is_finite())
+        .flat_map(|&(x, y, e)| {
+            let e = if e.is_finite() { e } else { 0.0 };
+            [(x, y), (x, y - e), (x, y + e)]
+        })
+        .collect();
+    let envelope = [Line::new("", pts.clone(), PALETTE[0])];
+    let ((x0, x1), (y0, y1)) = bounds(&envelope, false);
+    let xpad = 0.04 * (x1 - x0);
+    let (x0, x1) = (x0 - xpad, x1 + xpad);
+    let (w, h) = (0.45, 0.06 + 0.08 * series.len() as f64);
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let hidden = |right: bool, upper: bool| {
+        pts.iter()
+            .filter(|&&(x, y)| {
+                let (u, v) = ((x - x0) / (x1 - x0), (y - y0) / (y1 - y0));
+                (if right { u >= 1.0 - w } else { u <= w })
+                    && (if upper { v >= 1.0 - h } else { v <= h })
+            })
+            .count()
+    };
+    corners
+        .into_iter()
+        .min_by_key(|&(_, right, upper)| hidden(right, upper))
+        .map(|c| c.0)
+        .expect("four corners")
 }
 
 /// [`errorbar_chart`] with the legend at `legend`.
@@ -639,4 +674,26 @@ pub fn errorbar_chart_at(
         }
         draw_legend(&mut chart, legend)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_legend_goes_to_a_corner_without_points() {
+        let line = |pts: Vec<(f64, f64, f64)>| [ErrSeries::new("s", pts, PALETTE[0])];
+        let rising: Vec<_> = (0..8).map(|i| (i as f64, i as f64, 0.1)).collect();
+        let falling: Vec<_> = (0..8).map(|i| (i as f64, -(i as f64), 0.1)).collect();
+        assert_eq!(free_corner(&line(rising)), SeriesLabelPosition::UpperLeft);
+        assert_eq!(free_corner(&line(falling)), SeriesLabelPosition::UpperRight);
+        // a peak in the upper middle-right with low ends: upper left
+        let pts = vec![
+            (0.0, 0.0, 0.0),
+            (5.0, 0.5, 0.0),
+            (8.0, 1.0, 0.0),
+            (10.0, 0.0, 0.0),
+        ];
+        assert_eq!(free_corner(&line(pts)), SeriesLabelPosition::UpperLeft);
+    }
 }

@@ -220,7 +220,8 @@ pub struct Summary {
     pub params: serde_json::Value,
     /// Rule variant(s) used, as printed by the model.
     pub rules: String,
-    /// Wall-clock time of the whole figure.
+    /// Wall-clock time of this invocation of the figure (runs resumed from
+    /// saved files cost nothing here; `site_updates` counts them).
     pub wall_seconds: f64,
     /// Total number of site updates (sites x steps) computed.
     pub site_updates: f64,

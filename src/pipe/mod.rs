@@ -546,19 +546,35 @@ impl Pipe {
         if self.g_t == 0 {
             return;
         }
+        const SLIDE_FROM: u8 = REST_BIT | bit(4);
+        let slide = self.rules.rest_slide;
         let (w, l) = (self.params.width, self.params.length);
         for x in 0..w {
             let start = (x + 1) * self.stride + 1;
             for i in start..start + l {
                 let s = self.cells[i];
                 let m = self.gravity_moves[s as usize];
-                if m.n == 0 {
+                if m.n == 0 && !(slide && s & SLIDE_FROM == SLIDE_FROM) {
                     continue;
                 }
                 let mut new = s;
                 for &(from, to) in &m.moves[..m.n as usize] {
                     if chance(&mut self.rng, self.g_t) {
                         new = (new & !bit(from as usize)) | bit(to as usize);
+                    }
+                }
+                // `rest-slide`: a rest particle under an occupied channel 4
+                // slides down a diagonal (0 -> 3 or 0 -> 5) with probability g.
+                if slide && s & SLIDE_FROM == SLIDE_FROM {
+                    let free: Vec<usize> =
+                        [3, 5].into_iter().filter(|&c| new & bit(c) == 0).collect();
+                    if !free.is_empty() && chance(&mut self.rng, self.g_t) {
+                        let to = if free.len() == 2 && self.rng.next_u32() >> 31 == 1 {
+                            free[1]
+                        } else {
+                            free[0]
+                        };
+                        new = (new & !REST_BIT) | bit(to);
                     }
                 }
                 self.cells[i] = new;
@@ -933,6 +949,40 @@ mod tests {
         let up = gravity_table(GravityWording::UpToRest);
         assert_eq!(up[bit(1) as usize].n, 1);
         assert_eq!(up[(bit(1) | bit(0)) as usize].n, 1); // only 0->4
+    }
+
+    #[test]
+    fn rest_slide_moves_a_blocked_rest_particle_down_a_diagonal() {
+        // g = 1, W = 3, a rest particle under an occupied channel 4 in the
+        // middle column: with `rest-slide` it slides to 3 or 5 (each seen over
+        // seeds), never both, and without it stays at rest.
+        let p = Params {
+            g: 1.0,
+            p: 0.0,
+            ..tiny(3, 6)
+        };
+        let slide: Rules = "ph94+rest-slide".parse().unwrap();
+        let mut seen = [false; 7];
+        for seed in 0..32 {
+            for rules in [Rules::MODEL_MD, slide] {
+                let mut pipe = Pipe::new(p, rules, seed).unwrap();
+                for x in 0..3 {
+                    for y in 0..6 {
+                        pipe.set_site(x, y, 0);
+                    }
+                }
+                pipe.set_site(1, 3, REST_BIT | bit(4));
+                pipe.gravity();
+                let s = pipe.site(1, 3);
+                if rules.rest_slide {
+                    assert!(s == bit(3) | bit(4) || s == bit(4) | bit(5), "{s:#b}");
+                    seen[(s & !bit(4)).trailing_zeros() as usize] = true;
+                } else {
+                    assert_eq!(s, REST_BIT | bit(4));
+                }
+            }
+        }
+        assert!(seen[3] && seen[5]);
     }
 
     #[test]

@@ -77,6 +77,15 @@ pub struct Rules {
     /// diagonal mover falls 1/2 per step at every step. With W = 1 both
     /// walls act on the one column and the variant changes nothing.
     pub wall_move: bool,
+    /// `rest-slide` (A5 variant, session 3): a rest particle whose fall
+    /// channel 4 is occupied slides down a diagonal instead (0 -> 3 or
+    /// 0 -> 5, one chosen at random among the empty ones) with probability g.
+    /// Motivation: with A5 as written every reading ends with channel 4
+    /// nearly full at rho >= 1 (a stream of down-movers through every site),
+    /// so rest particles can never fall and stand as jams (MODEL.md A11,
+    /// EXPERIMENTS.md session 3); the diagonals are the only other downward
+    /// channels, and they reach the rough walls.
+    pub rest_slide: bool,
 }
 
 impl Rules {
@@ -88,6 +97,7 @@ impl Rules {
         gravity_first: false,
         rest: RestPlacement::RandomWalk,
         wall_move: false,
+        rest_slide: false,
     };
 }
 
@@ -106,7 +116,7 @@ impl Default for Rules {
 }
 
 /// Every name understood by [`Rules::from_str`], with its meaning.
-pub const RULE_NAMES: [(&str, &str); 8] = [
+pub const RULE_NAMES: [(&str, &str); 9] = [
     (
         "default",
         "the project's default reading, ph94+gravity-first+wall-move (issue 4)",
@@ -130,6 +140,10 @@ pub const RULE_NAMES: [(&str, &str); 8] = [
         "wall-move",
         "a particle reflected by a wall moves along its new velocity in the same step",
     ),
+    (
+        "rest-slide",
+        "a rest particle whose fall channel is occupied slides down a diagonal",
+    ),
 ];
 
 impl fmt::Display for Rules {
@@ -150,6 +164,9 @@ impl fmt::Display for Rules {
         }
         if self.wall_move {
             parts.push("wall-move");
+        }
+        if self.rest_slide {
+            parts.push("rest-slide");
         }
         write!(f, "{}", parts.join("+"))
     }
@@ -186,6 +203,10 @@ impl FromStr for Rules {
                 }
                 "wall-move" => {
                     r.wall_move = true;
+                    None
+                }
+                "rest-slide" => {
+                    r.rest_slide = true;
                     None
                 }
                 other => {
@@ -234,7 +255,8 @@ mod tests {
                 "+gravity-first",
                 "+rest-up",
                 "+wall-move",
-                "+wall-drag+gravity-first+rest-up+wall-move",
+                "+rest-slide",
+                "+wall-drag+gravity-first+rest-up+wall-move+rest-slide",
             ] {
                 let s = format!("{g}{extra}");
                 let r: Rules = s.parse().unwrap();

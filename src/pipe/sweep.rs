@@ -273,16 +273,17 @@ impl Quantity {
 }
 
 /// Plot `q` against the swept parameter with error bars (one standard error
-/// over runs), one series per curve in the palette's order, to `path`.
+/// over runs), one series per curve in the palette's order, to `path`; the
+/// legend at `legend`, or with `None` in the corner hiding the fewest points.
 pub fn sweep_chart(
     path: &std::path::Path,
     title: &str,
     xlabel: &str,
     q: Quantity,
     curves: &[Curve],
-    legend: plotters::chart::SeriesLabelPosition,
+    legend: Option<plotters::chart::SeriesLabelPosition>,
 ) -> Result<()> {
-    use crate::plot::{errorbar_chart_at, ErrSeries, PALETTE};
+    use crate::plot::{errorbar_chart_at, free_corner, ErrSeries, PALETTE};
     let series: Vec<ErrSeries> = curves
         .iter()
         .enumerate()
@@ -298,6 +299,7 @@ pub fn sweep_chart(
             ErrSeries::new(cv.label, pts, PALETTE[c % PALETTE.len()])
         })
         .collect();
+    let legend = legend.unwrap_or_else(|| free_corner(&series));
     errorbar_chart_at(path, title, xlabel, q.label(), &series, legend)
 }
 
@@ -310,18 +312,14 @@ pub fn plot_alpha_v(
     xlabel: &str,
     curves: &[Curve],
 ) -> Result<()> {
-    use plotters::chart::SeriesLabelPosition;
-    for (q, legend) in [
-        (Quantity::Alpha, SeriesLabelPosition::UpperLeft),
-        (Quantity::V, SeriesLabelPosition::LowerRight),
-    ] {
+    for q in [Quantity::Alpha, Quantity::V] {
         sweep_chart(
             &dir.join(format!("{stem}_{}.png", q.name())),
             &format!("{title}: {}", q.name()),
             xlabel,
             q,
             curves,
-            legend,
+            None,
         )?;
     }
     Ok(())
