@@ -554,7 +554,8 @@ impl Pipe {
             for i in start..start + l {
                 let s = self.cells[i];
                 let m = self.gravity_moves[s as usize];
-                if m.n == 0 && !(slide && s & SLIDE_FROM == SLIDE_FROM) {
+                let blocked_rest = slide && s & SLIDE_FROM == SLIDE_FROM;
+                if m.n == 0 && !blocked_rest {
                     continue;
                 }
                 let mut new = s;
@@ -565,14 +566,13 @@ impl Pipe {
                 }
                 // `rest-slide`: a rest particle under an occupied channel 4
                 // slides down a diagonal (0 -> 3 or 0 -> 5) with probability g.
-                if slide && s & SLIDE_FROM == SLIDE_FROM {
-                    let free: Vec<usize> =
-                        [3, 5].into_iter().filter(|&c| new & bit(c) == 0).collect();
-                    if !free.is_empty() && chance(&mut self.rng, self.g_t) {
-                        let to = if free.len() == 2 && self.rng.next_u32() >> 31 == 1 {
-                            free[1]
-                        } else {
-                            free[0]
+                if blocked_rest {
+                    let free = (new & bit(3) == 0, new & bit(5) == 0);
+                    if (free.0 || free.1) && chance(&mut self.rng, self.g_t) {
+                        let to = match free {
+                            (true, true) if self.rng.next_u32() >> 31 == 1 => 5,
+                            (true, _) => 3,
+                            _ => 5,
                         };
                         new = (new & !REST_BIT) | bit(to);
                     }
