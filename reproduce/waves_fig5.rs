@@ -82,7 +82,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let resolution = peak_speed(params.length, 1.0, T0, spec.m);
     // the late lags only (tau > MAX_LAG T0 / 2): at short intervals the
     // faster, short-lived background fluctuations still overlap and pull
-    // the maximum (EXPERIMENTS-waves.md, a choice made after seeing the
+    // the maximum (EXPERIMENTS.md, a choice made after seeing the
     // paper-tier data; the all-lag slope is kept)
     let late = |r: &SpeedRun| late_lag_speed(&r.shift_rows, T0);
     let (v, v_err) = mean_sem_by(&results, |r| r.speed);

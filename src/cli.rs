@@ -1,5 +1,5 @@
 //! Command-line options shared by every figure binary (the output contract
-//! of DEVELOPERS.md): `--tier`, `--seed`, `--runs`, `--rules`, `--out`; and
+//! of the README, "Figure binaries"): `--tier`, `--seed`, `--runs`, `--rules`, `--out`; and
 //! those of the PH95 wave figures (Figs. 2-5), with `--p`.
 //!
 //! A pipe figure whose options are just these parses them with
@@ -25,7 +25,7 @@ pub struct Common {
     /// Number of independent runs to average (default: set by the tier).
     #[arg(long)]
     pub runs: Option<usize>,
-    /// Output folder; the figure writes into OUT/<binary>/.
+    /// Output folder; the figure writes into `OUT/<binary>/`.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
     /// Run only shard i of n (runs r with r mod n = i, 0 <= i < n), e.g.

@@ -10,7 +10,7 @@ pub enum ErrorKind {
     /// between parameters, such as L being a multiple of the bin size).
     InvalidParameter,
     /// The model is undefined for this state: more rest particles than sites
-    /// (MODEL.md A4, [PH95 G]); lower rho or p.
+    /// (MODEL.md A4, \[PH95 G\]); lower rho or p.
     RestExceedsSites,
     /// A relocation walk of an extra rest particle did not find an empty rest
     /// channel within its step bound (MODEL.md A4).

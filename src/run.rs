@@ -205,7 +205,7 @@ pub fn mark_discrepancies(checks: &mut [Check], reason: &str) {
     }
 }
 
-/// The `summary.json` of a figure binary (DEVELOPERS.md, output contract).
+/// The `summary.json` of a figure binary (README, "Figure binaries": the output contract).
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
     /// Binary name, e.g. `fig1`.

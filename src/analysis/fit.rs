@@ -16,7 +16,7 @@
 //!   error ignores: with all points it underestimates the true scatter of
 //!   alpha by a factor of about sqrt(1 + 2*0.37 + 2*0.02) ~ 1.3 (measured in
 //!   the tests' calibration: 1.2-1.34), see [`ALPHA_ERR_INFLATION`].
-//! - **Fit range**: 40 <= j <= 1000 at m = 16384 ([PH94]); for other m both
+//! - **Fit range**: 40 <= j <= 1000 at m = 16384 (\[PH94\]); for other m both
 //!   ends scale with m / 16384 ([`default_fit_range`]).
 //! - **Peak**: the j in the fit range maximising P(j) / B(j), where the
 //!   smooth background B(j) is a local power-law fit: least squares of
@@ -38,7 +38,7 @@
 //!   m = 16384. Four bins cover the main lobe (+-2 bins) of the triangle
 //!   window's response to a pure line and its first side lobe; m / 1024 bins
 //!   is a fixed band of 1/2048 cycles per sample, so that a peak of given
-//!   physical width is excluded alike for every m (at [PH94]'s j = 596 it
+//!   physical width is excluded alike for every m (at \[PH94\]'s j = 596 it
 //!   is +-2.7 per cent of the peak frequency). [`alpha_sensitivity`] reports
 //!   alpha for other widths.
 
@@ -315,7 +315,7 @@ fn check_range_in(p: &[f64], j_lo: usize, j_hi: usize) -> Result<()> {
     Ok(())
 }
 
-/// The default fit range for `m` output frequencies: [PH94]'s 40..=1000 at
+/// The default fit range for `m` output frequencies: \[PH94\]'s 40..=1000 at
 /// m = 16384, both ends scaled by m / 16384 and rounded to the nearest
 /// integer (halves up), with j_lo >= 2 and j_hi <= m - 1 (and j_hi >= j_lo;
 /// for m <= 64 the range has at most 3 bins and for m <= 4 it lies outside
@@ -397,7 +397,7 @@ pub fn local_background(p: &[f64], j: usize) -> Result<f64> {
 }
 
 /// The sharp peak of the spectrum inside j_lo..=j_hi (only there): the j
-/// maximising P(j) / [`local_background`](j) (ties: the lowest j). See the
+/// maximising P(j) / `local_background(j)` (ties: the lowest j). See the
 /// module docs for why this does not pick the low-frequency end of a 1/f
 /// spectrum.
 ///
@@ -509,7 +509,7 @@ pub fn estimate_alpha(p: &[f64]) -> Result<AlphaEstimate> {
 /// v = L * j_peak / (T0 * 2m) rows per step, for a pipe of `l_rows` rows
 /// sampled every `t0_steps` steps, with `m` output frequencies.
 ///
-/// The check of MODEL.md A9 ([PH94]): L = 220, j = 596, T0 = 10,
+/// The check of MODEL.md A9 (\[PH94\]): L = 220, j = 596, T0 = 10,
 /// m = 16384 gives v = 0.40.
 ///
 /// ```
@@ -523,7 +523,7 @@ pub fn wave_velocity(l_rows: usize, j_peak: usize, t0_steps: usize, m: usize) ->
 
 /// The period of bin `j` in steps: T0 * 2m / j (infinite for j = 0).
 ///
-/// The check of MODEL.md A9 ([PH94]): "f = 1000 corresponds to T = 328".
+/// The check of MODEL.md A9 (\[PH94\]): "f = 1000 corresponds to T = 328".
 ///
 /// ```
 /// use granular_automata::analysis::fit::period_steps;
@@ -731,7 +731,7 @@ mod tests {
         }
     }
 
-    /// 1/f^(4/3) noise (m = 4096) plus a line at [PH94]'s j = 596 scaled to
+    /// 1/f^(4/3) noise (m = 4096) plus a line at \[PH94\]'s j = 596 scaled to
     /// m = 4096 (149), `contrast` times the local background.
     fn spectrum_with_line(rng: &mut Xoshiro256PlusPlus, contrast: f64) -> (Vec<f64>, usize) {
         let m = 4096;

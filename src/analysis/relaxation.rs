@@ -1,4 +1,4 @@
-//! The approach of an ensemble of time series to saturation [PH95 Fig. 3]:
+//! The approach of an ensemble of time series to saturation \[PH95 Fig. 3\]:
 //! window means, the time to cover a fraction of the way from the start to
 //! the saturation value, and that half-time of the ensemble mean with a
 //! jackknife standard error over the runs.
@@ -63,7 +63,7 @@ pub fn window(v: &[f64], times: &[f64], fa: f64, fb: f64) -> f64 {
 }
 
 /// First time (linear interpolation between samples) at which `v` reaches
-/// `v[0] + frac * (target - v[0])`, approaching from v[0]; NaN if never.
+/// `v[0] + frac * (target - v[0])`, approaching from `v[0]`; NaN if never.
 pub fn time_to(v: &[f64], times: &[f64], target: f64, frac: f64) -> f64 {
     let level = v[0] + frac * (target - v[0]);
     let up = target >= v[0];

@@ -106,7 +106,7 @@ pub struct SpectrumParams {
 }
 
 impl Default for SpectrumParams {
-    /// The set-up of [PH94] Fig. 2 (MODEL.md A9): m = 16384, k = 4, the 1988
+    /// The set-up of \[PH94\] Fig. 2 (MODEL.md A9): m = 16384, k = 4, the 1988
     /// "Parzen" window.
     fn default() -> Self {
         SpectrumParams {

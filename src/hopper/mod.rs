@@ -1,4 +1,4 @@
-//! The hopper automaton of Baxter & Behringer [BB90] (MODEL.md Part B):
+//! The hopper automaton of Baxter & Behringer \[BB90\] (MODEL.md Part B):
 //! grains with an orientation and a motion on the triangular lattice of
 //! [`crate::lattice`], in a 60° wedge with an outlet, filled by rain and
 //! emptied by opening a plug.

@@ -2,7 +2,7 @@
 //! (issue 4, the reproduction matrix). Every claim is measured with its
 //! error over runs and graded reproduced / not reproduced / undecided by a
 //! rule fixed here. The rule for numerical claims changed once, in session 2
-//! (see [`equivalent`], [`GRADING_VERSION`]), before the new readings of
+//! (see `equivalent`, [`GRADING_VERSION`]), before the new readings of
 //! that session were graded.
 
 use super::record::{fig1_panels, run_bands};
@@ -100,13 +100,13 @@ pub const WAVE_THRESHOLD: f64 = 2.0;
 
 /// Version of the grading rules; caches of graded readings carry it, so a
 /// change of rule never mixes with old verdicts. 1: session 1 ("|d| <= 2
-/// sqrt(SE^2 + e^2)"), 2: the equivalence test [`equivalent`].
+/// sqrt(SE^2 + e^2)"), 2: the equivalence test `equivalent`.
 pub const GRADING_VERSION: u32 = 2;
 
 /// Agreement margin Delta of the alpha claims ("alpha near 4/3", "white
 /// noise, alpha about 0"): |alpha - target| <= 0.1, a third of the way from
 /// 4/3 to 1/f noise (alpha = 1). Fixed in session 2 before grading the new
-/// readings; see [`equivalent`].
+/// readings; see `equivalent`.
 pub const ALPHA_MARGIN: f64 = 0.1;
 
 /// Agreement margin Delta of the wave speed v = 0.40 of PH94 Fig. 2 (quoted

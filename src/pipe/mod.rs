@@ -1,4 +1,4 @@
-//! The Peng-Herrmann pipe lattice gas (MODEL.md Part A; [PH94], [PH95]).
+//! The Peng-Herrmann pipe lattice gas (MODEL.md Part A; \[PH94\], \[PH95\]).
 //!
 //! Particles on a triangular lattice of `W` columns and `L` rows, seven
 //! Boolean channels per site stored as one byte (bit `c` = channel `c`, bit 0
@@ -41,7 +41,7 @@ use serde::Serialize;
 pub enum Boundary {
     /// Rows wrap around: row L-1 neighbours row 0.
     Periodic,
-    /// Open pipe [PH95 I]: starts empty; each step every empty inward channel
+    /// Open pipe \[PH95 I\]: starts empty; each step every empty inward channel
     /// (3, 4, 5) of the top row is filled with probability `inject`; particles
     /// leaving below row 0 are outflow, particles leaving above row L-1 are
     /// lost (counted separately).
@@ -351,8 +351,9 @@ impl Pipe {
         Ok(())
     }
 
-    /// One time step (MODEL.md A2): [injection], collision and relocation,
-    /// gravity, [wall drag], propagation.
+    /// One time step (MODEL.md A2): injection (open pipe), collision with
+    /// relocation and gravity (gravity first with `gravity-first`), wall drag
+    /// and wall move if named, propagation.
     pub fn step(&mut self) -> Result<()> {
         if let Boundary::Open { .. } = self.params.boundary {
             self.inject();
@@ -762,7 +763,7 @@ impl Pipe {
             .sum()
     }
 
-    /// Kinetic energy E = number of moving particles [PH95 Fig. 3b].
+    /// Kinetic energy E = number of moving particles \[PH95 Fig. 3b\].
     pub fn moving_count(&self) -> u64 {
         (0..self.params.width)
             .map(|x| {

@@ -2,7 +2,7 @@
 //! contrast, the low-k structure factor that detects travelling bands.
 
 /// Density contrast C = (1/n_mean) sum_i |n_i - n_{i+1}|, periodic in i
-/// [PH95 eq. 1]. Returns 0 for an empty pipe.
+/// \[PH95 eq. 1\]. Returns 0 for an empty pipe.
 pub fn contrast(n: &[f64]) -> f64 {
     let k = n.len();
     if k == 0 {

@@ -9,7 +9,7 @@
 //! by `s` bins between `a` and `b` gives `best_shift(a, b) = +s` (up =
 //! against gravity). The overlap is the periodic cross-correlation of the
 //! mean-subtracted profiles, O(s) = sum_i (a_i - abar) (b_{i+s} - bbar),
-//! which has the same maximiser as sum_i a_i b_{i+s} [PH95 eq. 2].
+//! which has the same maximiser as sum_i a_i b_{i+s} \[PH95 eq. 2\].
 //!
 //! ```
 //! use granular_automata::pipe::overlap::{best_shift, shifted};
@@ -114,7 +114,7 @@ pub fn best_shift(a: &[f64], b: &[f64]) -> i64 {
     signed(argmax(&overlaps(a, b)), a.len())
 }
 
-/// Hierarchical alignment [PH95 B]: fields are paired (0, 1), (2, 3), ...;
+/// Hierarchical alignment \[PH95 B\]: fields are paired (0, 1), (2, 3), ...;
 /// the second of each pair is shifted to overlap the first maximally and
 /// the two are averaged; the averages are paired again, until one profile
 /// remains (an odd one out is carried to the next level unchanged, with its
@@ -154,9 +154,9 @@ pub fn centre_on_max(a: &[f64]) -> Vec<f64> {
 }
 
 /// The shift of maximal overlap s(tau) of a run's fields against the time
-/// interval tau = m * (sample spacing), m = 1..=max_lag [PH95 C, Fig. 5]:
+/// interval tau = m * (sample spacing), m = 1..=max_lag \[PH95 C, Fig. 5\]:
 /// for each m the overlaps of all pairs (t, t + m) are summed (the
-/// two-point correlation of [PH95 eq. 2]), the maximiser is refined to a
+/// two-point correlation of \[PH95 eq. 2\]), the maximiser is refined to a
 /// fraction of a bin ([`refined_argmax`]) and unwrapped so that it changes
 /// by less than K/2 from one lag to the next (starting from 0 at m = 0).
 /// Returns s(m) in bins for m = 1..=max_lag.
@@ -180,7 +180,7 @@ pub fn shift_against_lag(fields: &[Vec<f64>], max_lag: usize) -> Vec<f64> {
     out
 }
 
-/// The real-space wave speed [PH95 C, Fig. 5] of fields sampled every `dt`
+/// The real-space wave speed \[PH95 C, Fig. 5\] of fields sampled every `dt`
 /// steps in bins of `rows_per_bin` rows: the shift of maximal overlap
 /// s(tau) in rows for tau = dt, 2 dt, ..., max_lag dt
 /// ([`shift_against_lag`]) and the least-squares slope of s against tau
@@ -211,7 +211,7 @@ pub fn late_lag_speed(shift_rows: &[f64], dt: u64) -> f64 {
         .unwrap_or(f64::NAN)
 }
 
-/// One run's wave speed measured both ways [PH95 Fig. 5]: in real space
+/// One run's wave speed measured both ways \[PH95 Fig. 5\]: in real space
 /// ([`real_space_speed`]) and from the spectral peak
 /// ([`spectral_speed`]).
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -250,7 +250,7 @@ impl SpeedRun {
     }
 }
 
-/// Shape statistics of a wave profile centred on its maximum [PH95 Fig. 4].
+/// Shape statistics of a wave profile centred on its maximum \[PH95 Fig. 4\].
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 pub struct WaveShape {
     /// (max - mean) / mean.
@@ -304,7 +304,7 @@ pub fn wave_shape(profile: &[f64], rows_per_bin: usize) -> WaveShape {
     }
 }
 
-/// One run's wave profile [PH95 Fig. 4] and its alignment-bias null.
+/// One run's wave profile \[PH95 Fig. 4\] and its alignment-bias null.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ProfileRun {
     /// The run's aligned profile, centred on its maximum (particles per bin).

@@ -29,7 +29,7 @@ impl Record {
         self.t0 + t as u64 * self.every
     }
 
-    /// Density contrast C at each sample [PH95 eq. 1].
+    /// Density contrast C at each sample \[PH95 eq. 1\].
     pub fn contrast(&self) -> Vec<f64> {
         self.n.iter().map(|v| contrast(v)).collect()
     }
@@ -247,7 +247,7 @@ pub fn sample_times(steps: u64, every: u64, early: u64) -> Vec<u64> {
     t
 }
 
-/// One run's approach to the steady state [PH95 Fig. 3], at its sample times.
+/// One run's approach to the steady state \[PH95 Fig. 3\], at its sample times.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Relaxation {
     /// Density contrast C(t).

@@ -3,8 +3,8 @@
 //! of the code: the engine builds its tables from it once.
 //!
 //! A rule set is written as names joined by `+`, e.g. `ph94+wall-drag` or
-//! `any-mover+gravity-first`. `ph94` alone is the MODEL.md default reading
-//! (A2-A6 as written); `default` is the project's default, the reading that
+//! `any-mover+gravity-first`. `ph94` alone is the literal reading of
+//! MODEL.md A2-A6 (the default until session 2); `default` is the project's default, the reading that
 //! reproduces the most published claims in the reproduction matrix (issue 4,
 //! EXPERIMENTS.md "Reproducing Peng & Herrmann: which reading"):
 //! `ph94+gravity-first+wall-move`.
@@ -26,13 +26,13 @@ use std::str::FromStr;
 /// Which moving particles gravity acts on (MODEL.md A5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum GravityWording {
-    /// [PH94]: a rest particle falls (0 -> 4); a mover is turned (2 -> 3,
+    /// \[PH94\]: a rest particle falls (0 -> 4); a mover is turned (2 -> 3,
     /// 6 -> 5) only at a site that holds a rest particle. The default.
     Ph94,
-    /// [PH95]: every mover can be turned (2 -> 3, 6 -> 5), rest particles fall.
+    /// \[PH95\]: every mover can be turned (2 -> 3, 6 -> 5), rest particles fall.
     AnyMover,
     /// `any-mover` plus an up-mover stopping (1 -> 0) when the rest channel is
-    /// empty. (With the [PH94] condition 1 -> 0 could never happen, since the
+    /// empty. (With the \[PH94\] condition 1 -> 0 could never happen, since the
     /// site must hold a rest particle, so this variant builds on `any-mover`.)
     UpToRest,
 }
@@ -71,7 +71,7 @@ pub struct Rules {
     /// reflection cost a whole step, so a diagonal mover crossing a pipe of
     /// width W falls (W - 1)/2 rows in W steps: at W = 11 it circles the
     /// periodic pipe at v = 5/11 = 0.4545, exactly the b = 0 peak the default
-    /// reading shows, while [PH95] Fig. 7 has the peak at v = 1/2 "exactly".
+    /// reading shows, while \[PH95\] Fig. 7 has the peak at v = 1/2 "exactly".
     /// In the usual lattice-gas boundary (the wall acts on the link, as a
     /// collision at the wall site) the reflected particle loses no time and a
     /// diagonal mover falls 1/2 per step at every step. With W = 1 both
@@ -89,7 +89,7 @@ pub struct Rules {
 }
 
 impl Rules {
-    /// The MODEL.md default reading (`ph94`): [PH94] gravity, no wall drag,
+    /// The literal reading of MODEL.md A2-A6 (`ph94`): \[PH94\] gravity, no wall drag,
     /// collision before gravity, random-walk relocation, A6 walls.
     pub const MODEL_MD: Rules = Rules {
         gravity: GravityWording::Ph94,

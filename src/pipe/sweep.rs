@@ -371,7 +371,7 @@ pub fn fig7_check(
 }
 
 /// The points of a one-parameter sweep: for each value v, the label
-/// `<name><v>` (e.g. `p0.05`), x = [v] and the pipe `set(v)`.
+/// `<name><v>` (e.g. `p0.05`), x = `[v]` and the pipe `set(v)`.
 pub fn points_1d(name: &str, values: &[f64], set: impl Fn(f64) -> Params) -> Vec<SweepPoint> {
     values
         .iter()
