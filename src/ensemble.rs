@@ -81,6 +81,11 @@ impl FromStr for Shard {
     }
 }
 
+/// Largest number of runs of one ensemble (`--runs`): far above any
+/// published ensemble (64 runs), small enough that the per-run bookkeeping
+/// never exhausts memory.
+pub const MAX_RUNS: usize = 100_000;
+
 /// 64-bit FNV-1a hash (stable across platforms and versions), used to name
 /// the folder of a configuration.
 pub fn fnv1a64(bytes: &[u8]) -> u64 {
@@ -161,8 +166,12 @@ impl Ensemble {
         runs: usize,
         shard: Option<Shard>,
     ) -> Result<Self> {
-        if runs == 0 {
-            return Err(Error::out_of_range("--runs", 0, "[1, inf)"));
+        if !(1..=MAX_RUNS).contains(&runs) {
+            return Err(Error::out_of_range(
+                "--runs",
+                runs,
+                &format!("1..={MAX_RUNS}"),
+            ));
         }
         let key = serde_json::json!({"binary": binary, "base_seed": base_seed, "config": key});
         let text = serde_json::to_string(&key)
