@@ -114,7 +114,7 @@ fn beta1_empties_orders_and_has_white_outflow() {
     }
     // the outflow statistics of BB90 Fig. 3 hold for the reading that flows
     // through a core (the literal reading empties by sliding blocks whose
-    // rate drifts; EXPERIMENTS-hopper.md)
+    // rate drifts; EXPERIMENTS.md)
     let recs = ensemble_of(params(1.0, Aligned::SameOrientation), RUNS);
     let (ok, z) = no_trend(&recs);
     assert!(ok, "beta = 1 trend z = {z}");

@@ -83,7 +83,7 @@ fn energy_identity_fails_for_a_start_with_rest_particles() {
 /// Default reading: the energy identity holds, the energy loss rises and
 /// saturates, C(0) is the random-start value (3 SE + 2%, normal
 /// approximation), and C falls below it (the measured behaviour of this
-/// reading, EXPERIMENTS-waves.md; PH95 says C rises). Wrong model p = 0
+/// reading, EXPERIMENTS.md; PH95 says C rises). Wrong model p = 0
 /// (no dissipation): no rest particles, so the energy loss is exactly 0 and
 /// `energy_loss_rises` fails.
 #[test]
