@@ -417,3 +417,174 @@ mod spectra {
         assert!(alarms.len() <= 4, "{alarms:?}");
     }
 }
+
+mod hopper {
+    use granular_automata::hopper::energy::{motion, orientation, state, STATES};
+    use granular_automata::hopper::model::{grain_state, is_grain};
+    use granular_automata::hopper::{Aligned, EnergyParams, EnergyTable, Hopper, HopperParams};
+    use granular_automata::lattice::velocity;
+
+    const SEED: u64 = 16_1990;
+
+    /// A named change of the energy parameters.
+    type Extreme = (&'static str, fn(&mut EnergyParams));
+
+    /// E_i of MODEL.md B4 from the vectors and powers (the slow, obvious
+    /// reference of tests/hopper_model.rs, repeated here).
+    fn reference_energy(h: &Hopper, i: usize, s: usize) -> f64 {
+        let p = h.params().energy;
+        let g = h.geometry();
+        let sites = h.sites();
+        let hole = |j: u32| j != u32::MAX && sites[j as usize] == 0;
+        let nb = g.nbr[i];
+        let below = hole(nb[2]) || hole(nb[3]) || hole(nb[4]);
+        let v = motion(s);
+        let mut e = if below && !(3..=5).contains(&v) {
+            p.delta
+        } else {
+            0.0
+        };
+        for &j in &nb {
+            if j == u32::MAX || !is_grain(sites[j as usize]) {
+                continue;
+            }
+            let sn = grain_state(sites[j as usize]);
+            let (a, b) = (velocity(v), velocity(motion(sn)));
+            let shear = ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt() + 0.1;
+            let same = orientation(s) == orientation(sn);
+            let along = |m: usize| m != 0 && (m - 1) % 3 == orientation(s);
+            let aligned = match p.aligned {
+                Aligned::SameOrientation => same,
+                Aligned::AlongVelocity => same && (along(v) || along(motion(sn))),
+            };
+            let orient = if aligned { p.s } else { 1.0 };
+            let d = 0.5 * (h.spacing()[i] + h.spacing()[j as usize]);
+            let dil = if d <= 1.0 / (1.0 - p.c) { 1.0 / d } else { 0.2 };
+            e += shear.powf(p.alpha) * orient.powf(p.beta) * dil.powf(p.gamma);
+        }
+        e
+    }
+
+    /// The energy parameters at their extremes: Delta = 0, alpha = gamma =
+    /// 0, beta = 0 and beta = 20 (the largest allowed) with the smallest S
+    /// of the papers' set-up; each with both readings of "aligned". The
+    /// table holds what the formula says there (Delta = 0: no gravity term;
+    /// alpha = gamma = 0: every pair weighs 1 or S^beta and every spacing
+    /// weighs 1; beta = 0: orientation plays no part, so both readings give
+    /// the same table), and every grain's energies in a filled, opened
+    /// hopper equal the formula evaluated directly.
+    #[test]
+    fn energy_parameters_at_their_extremes_match_the_formula() {
+        let cases: [Extreme; 4] = [
+            ("Delta = 0", |e| e.delta = 0.0),
+            ("alpha = gamma = 0", |e| {
+                e.alpha = 0.0;
+                e.gamma = 0.0
+            }),
+            ("beta = 0", |e| e.beta = 0.0),
+            ("beta = 20", |e| e.beta = 20.0),
+        ];
+        for (name, set) in cases {
+            for aligned in [Aligned::AlongVelocity, Aligned::SameOrientation] {
+                let mut p = HopperParams::quick();
+                p.energy.aligned = aligned;
+                set(&mut p.energy);
+                let t = EnergyTable::new(p.energy).unwrap();
+                let e = p.energy;
+                if e.delta == 0.0 {
+                    assert!((0..=6).all(|v| t.gravity(true, v) == 0.0), "{name}");
+                }
+                if e.alpha == 0.0 && e.gamma == 0.0 {
+                    let s_beta = e.s.powf(e.beta);
+                    assert!(t.pair.iter().all(|&w| w == 1.0 || w == s_beta), "{name}");
+                    for d in [0.5, 1.0, 1.2, 2.0, 10.0] {
+                        assert_eq!(t.dilation_weight(d), 1.0, "{name}: d = {d}");
+                    }
+                }
+                if e.beta == 0.0 {
+                    let other = EnergyTable::new(EnergyParams {
+                        aligned: match aligned {
+                            Aligned::AlongVelocity => Aligned::SameOrientation,
+                            Aligned::SameOrientation => Aligned::AlongVelocity,
+                        },
+                        ..e
+                    })
+                    .unwrap();
+                    assert_eq!(t.pair, other.pair, "{name}: the reading must not matter");
+                }
+                if e.beta == 20.0 {
+                    // an aligned pair of vertical grains moving down weighs S^20
+                    let w = t.pair[state(0, 4) * STATES + state(0, 4)];
+                    let want = 0.1f64.powf(e.alpha) * e.s.powf(20.0);
+                    assert!(w > 0.0 && (w - want).abs() <= 1e-12 * want, "{name}: {w}");
+                }
+                let mut h = Hopper::new(p, SEED).unwrap();
+                let mut checked = 0;
+                for it in 0..400 {
+                    if it == 250 {
+                        h.open();
+                    }
+                    h.step(it < 200);
+                    if it % 100 != 99 {
+                        continue;
+                    }
+                    for i in 0..h.sites().len() {
+                        if !is_grain(h.sites()[i]) {
+                            continue;
+                        }
+                        for (s, got) in h.debug_energies(i) {
+                            let r = reference_energy(&h, i, s);
+                            assert!(
+                                (got - r).abs() <= 1e-9 * r.abs().max(1.0),
+                                "{name}, {aligned:?}: site {i} state {s}: {got} vs {r}"
+                            );
+                            checked += 1;
+                        }
+                    }
+                }
+                assert!(checked > 1000, "{name}: checked {checked}");
+            }
+        }
+    }
+
+    /// Outlet 1 and outlet = base (the widest outlet the walls allow,
+    /// `max_outlet_width`: 97 of the 98 inner columns at width 100, the
+    /// outlet being centred; one more is an error naming the range): grains are conserved at every iteration and
+    /// no more grains leave per iteration than there are outlet sites (one
+    /// grain per target site: a single-site outlet passes at most one grain
+    /// per iteration).
+    #[test]
+    fn outlet_of_one_site_and_of_the_whole_base() {
+        let width = HopperParams::quick().geometry.width;
+        let base = granular_automata::hopper::geometry::max_outlet_width(width);
+        assert_eq!(base, 97);
+        for outlet in [1, base] {
+            let mut p = HopperParams::quick();
+            p.geometry.outlet_width = outlet;
+            let mut h = Hopper::new(p, SEED).unwrap();
+            let mut most = 0;
+            for it in 0..1200 {
+                if it == 500 {
+                    h.open();
+                }
+                let r = h.step(it < 400);
+                most = most.max(r.outflow as usize);
+                assert!(r.outflow as usize <= outlet, "outlet {outlet}: {r:?}");
+                assert_eq!(h.count_grains() + h.removed(), h.added(), "iteration {it}");
+            }
+            println!(
+                "outlet {outlet}: added {}, removed {}, at most {most} per iteration",
+                h.added(),
+                h.removed()
+            );
+            assert!(h.added() > 500, "the hopper fills");
+        }
+        let mut p = HopperParams::quick();
+        p.geometry.outlet_width = base + 1;
+        let e = Hopper::new(p, SEED).unwrap_err();
+        assert!(
+            e.message.contains("outlet_width = 98") && e.message.contains("[1, 97]"),
+            "{e}"
+        );
+    }
+}
