@@ -588,3 +588,107 @@ mod hopper {
         );
     }
 }
+
+/// Golden snapshots (insta, `golden/`) of the set-ups the older snapshots
+/// miss: the open pipe, W = 1, g = 0, the `up-to-rest` and `rest-slide`
+/// readings, and the hopper with beta = 0 and with the same-orientation
+/// reading of "aligned". Any change of the dynamics (rules, order of random
+/// draws) changes them; review with `cargo insta review` and record why.
+mod golden {
+    use granular_automata::hopper::{Aligned, Hopper, HopperParams};
+    use granular_automata::pipe::{Boundary, Params, Pipe, Rules};
+
+    fn snapshot(name: &str, text: String) {
+        let mut settings = insta::Settings::clone_current();
+        settings.set_snapshot_path("../golden");
+        settings.set_prepend_module_to_snapshot(false);
+        settings.bind(|| insta::assert_snapshot!(name, text));
+    }
+
+    /// Bin counts every 25 steps over 250 steps, then the open pipe's flux.
+    fn pipe_text(params: Params, rules: &str) -> String {
+        let rules: Rules = rules.parse().unwrap();
+        let mut pipe = Pipe::new(params, rules, 1616).unwrap();
+        let mut text = format!("rules {rules}, {params:?}\n");
+        for _ in 0..10 {
+            pipe.run(25).unwrap();
+            let v: Vec<String> = pipe
+                .bin_counts()
+                .iter()
+                .map(|x| format!("{x:.0}"))
+                .collect();
+            text.push_str(&v.join(" "));
+            text.push('\n');
+        }
+        text.push_str(&format!("{:?}\n", pipe.flux()));
+        text
+    }
+
+    fn small() -> Params {
+        Params {
+            width: 5,
+            length: 60,
+            ..Params::default()
+        }
+    }
+
+    #[test]
+    fn golden_pipe_extremes() {
+        let mut text = String::new();
+        let open = Params {
+            boundary: Boundary::Open { inject: 0.5 },
+            ..small()
+        };
+        text.push_str(&pipe_text(open, "default"));
+        text.push_str(&pipe_text(
+            Params {
+                width: 1,
+                ..small()
+            },
+            "default",
+        ));
+        text.push_str(&pipe_text(Params { g: 0.0, ..small() }, "default"));
+        text.push_str(&pipe_text(small(), "up-to-rest"));
+        text.push_str(&pipe_text(small(), "ph94+rest-slide"));
+        snapshot("pipe_extremes", text);
+    }
+
+    /// Grains added and removed, and the outflow per 25 iterations, of a
+    /// small hopper filled for 200 iterations and opened at 250.
+    fn hopper_text(p: HopperParams) -> String {
+        let mut h = Hopper::new(p, 1616).unwrap();
+        let mut text = format!(
+            "beta = {}, aligned = {}\n",
+            p.energy.beta,
+            p.energy.aligned.name()
+        );
+        let mut out = 0;
+        let mut flows = Vec::new();
+        for it in 0..500 {
+            if it == 250 {
+                h.open();
+            }
+            out += h.step(it < 200).outflow;
+            if it % 25 == 24 {
+                flows.push(out.to_string());
+                out = 0;
+            }
+        }
+        text.push_str(&format!(
+            "added {} removed {}\noutflow per 25: {}\n",
+            h.added(),
+            h.removed(),
+            flows.join(" ")
+        ));
+        text
+    }
+
+    #[test]
+    fn golden_hopper_readings() {
+        let mut beta0 = HopperParams::quick();
+        beta0.energy.beta = 0.0;
+        let mut same = HopperParams::quick();
+        same.energy.aligned = Aligned::SameOrientation;
+        snapshot("hopper_readings", hopper_text(beta0) + &hopper_text(same));
+    }
+}
