@@ -7,20 +7,29 @@ use std::time::Instant;
 #[derive(Parser)]
 #[command(about = "Pipe engine speed: site updates per second on one thread")]
 struct Args {
-    /// Steps per measurement.
-    #[arg(long, default_value_t = 20000)]
+    /// Steps per measurement at L = 220 (a tenth at L = 2200), 10..=10^9.
+    #[arg(long, default_value_t = 20000, allow_negative_numbers = true)]
     steps: u64,
     /// Rule variant (see `--rules help` of the figure binaries).
     #[arg(long, default_value = "default")]
     rules: String,
     /// Seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     seed: u64,
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
     let rules: Rules = a.rules.parse()?;
+    if !(10..=1_000_000_000).contains(&a.steps) {
+        // L = 2200 runs a tenth of the steps: fewer than 10 would time nothing
+        return Err(granular_automata::Error::out_of_range(
+            "--steps",
+            a.steps,
+            "10..=1000000000 (L = 2200 runs a tenth of them)",
+        )
+        .into());
+    }
     for length in [220usize, 2200] {
         let params = Params {
             length,

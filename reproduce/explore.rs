@@ -6,7 +6,7 @@
 //! `cargo run --release --bin explore -- --rules any-mover --p 0.1 --length 2200`
 
 use clap::Parser;
-use granular_automata::cli::PipeRules;
+use granular_automata::cli::{parse_runs, PipeRules};
 use granular_automata::pipe::record::{bands, record};
 use granular_automata::pipe::{Params, Pipe};
 use granular_automata::run::{derive_seed, ensemble};
@@ -17,31 +17,31 @@ struct Args {
     #[command(flatten)]
     rules: PipeRules,
     /// Dissipation p.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
     p: f64,
     /// Wall roughness b.
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
     b: f64,
     /// Gravity g.
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
     g: f64,
     /// Density rho.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     rho: f64,
     /// Pipe length L.
-    #[arg(long, default_value_t = 2200)]
+    #[arg(long, default_value_t = 2200, allow_negative_numbers = true)]
     length: usize,
     /// Pipe width W.
-    #[arg(long, default_value_t = 11)]
+    #[arg(long, default_value_t = 11, allow_negative_numbers = true)]
     width: usize,
     /// Steps (sampled every 80; statistics over the second half).
-    #[arg(long, default_value_t = 40000)]
+    #[arg(long, default_value_t = 40000, allow_negative_numbers = true)]
     steps: u64,
-    /// Number of seeds.
-    #[arg(long, default_value_t = 3)]
+    /// Number of seeds, 1..=100000.
+    #[arg(long, default_value_t = 3, value_parser = parse_runs, allow_negative_numbers = true)]
     runs: usize,
     /// Base seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     seed: u64,
 }
 

@@ -60,7 +60,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let tier = args.common.tier;
     let mut size = MatrixSize::for_tier(tier);
     if let Some(r) = args.common.runs {
-        size.runs = r.max(1);
+        size.runs = r; // 1..=MAX_RUNS, checked when parsed
     }
     let readings: Vec<Rules> = args
         .readings
@@ -272,6 +272,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // band runs at 2200 x 11 sites, spectra at 220 x 11 (grade_steps counts both)
         site_updates: site_updates(size) * readings.len() as f64,
         metrics,
+        missing_metrics: Default::default(),
         checks,
     })?;
     // the matrix as a list in summary.json (issue 4)

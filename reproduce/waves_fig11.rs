@@ -31,7 +31,7 @@ struct Args {
     pipe: PipeArgs,
     /// Steps per run from the empty pipe (default 40000, the paper's); the
     /// correlation uses the samples from step 10000 on, so at least 13020.
-    #[arg(long, default_value_t = 40_000)]
+    #[arg(long, default_value_t = 40_000, allow_negative_numbers = true)]
     steps: u64,
     /// Only the correlation at I = 0.3: skip the published rate I = 0.5,
     /// whose runs clog with the default reading (no waves-fig11a_I0.5.png,
@@ -294,6 +294,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         wall_seconds: wall,
         site_updates: (rates.len() as u64 * runs as u64 * steps * base.sites() as u64) as f64,
         metrics,
+        missing_metrics: Default::default(),
         checks,
     })?;
     Ok(())

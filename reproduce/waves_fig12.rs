@@ -33,16 +33,16 @@ struct Args {
     pipe: PipeArgs,
     /// Steps of each trend run of N(t) from an empty pipe (default by tier:
     /// 20000, 50000, 100000). Shorter runs see fewer clogs: I_c is biased up.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     steps: Option<u64>,
     /// Pipes whose I_c is measured, as LxW separated by commas; the first is
     /// the main pipe of panels (a)-(c) (default by tier; quick:
     /// 220x11,220x5,440x11).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     sizes: Vec<PipeSize>,
     /// Bisection steps for I_c on [0, 1] (default by tier: 5, 6, 7); the
     /// error of I_c is the final half-width 2^-(n+1).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     bisections: Option<usize>,
     /// Skip the spectra (panels a and b: waves-fig12a.png, waves-fig12b.png,
     /// waves-fig12b.csv), about three quarters of the cost: only I_c and N(t).
@@ -52,6 +52,10 @@ struct Args {
 
 /// N(t) sampled every EVERY steps.
 const EVERY: u64 = 100;
+/// Fewest `--steps` of a trend run: 10 samples of N(t).
+const MIN_STEPS: u64 = 10 * EVERY;
+/// Most `--steps` of a trend run (a billion: hours per run).
+const MAX_STEPS: u64 = 1_000_000_000;
 
 /// One trend run: N(t), the clog step if any, bookkeeping failures.
 #[derive(Serialize, Deserialize)]
@@ -125,8 +129,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..base
     };
     let steps: u64 = args.steps.unwrap_or(c.tier.pick(20_000, 50_000, 100_000));
+    if !(MIN_STEPS..=MAX_STEPS).contains(&steps) {
+        // the trend test compares the last two quarters of N(t), sampled
+        // every EVERY steps: fewer than 10 samples leave nothing to compare
+        return Err(granular_automata::Error::new(
+            granular_automata::ErrorKind::InvalidParameter,
+            format!("--steps = {steps} is outside the allowed range {MIN_STEPS}..={MAX_STEPS}: the trend test of N(t) needs at least 10 samples, one every {EVERY} steps; choose --steps in {MIN_STEPS}..={MAX_STEPS}"),
+        )
+        .into());
+    }
     let runs = c.runs_or(4, 8, 32);
     let bisect_steps = args.bisections.unwrap_or(c.tier.pick(5, 6, 7));
+    if !(1..=30).contains(&bisect_steps) {
+        return Err(granular_automata::Error::out_of_range(
+            "--bisections",
+            bisect_steps,
+            "1..=30 (the half-width 2^-(n+1) of I_c)",
+        )
+        .into());
+    }
     let geoms: Vec<(usize, usize)> = if args.sizes.is_empty() {
         c.tier
             .pick(
@@ -145,8 +166,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     } else {
         args.sizes.iter().map(|s| (s.length, s.width)).collect()
     };
+    granular_automata::cli::reject_duplicates("--sizes", &args.sizes)?;
     for &(l, w) in &geoms {
         open(l, w, 0.0).validate()?; // bad sizes fail before any run
+        granular_automata::cli::check_two_bins(l, base.bin)?;
+        if w < 2 {
+            // one column: the pipe stays stationary even at I = 1, so the
+            // bisection cannot bracket I_c and would report I_c = 1 +- 0
+            return Err(granular_automata::Error::new(
+                granular_automata::ErrorKind::InvalidParameter,
+                format!("--sizes {l}x{w}: W = {w} is outside the allowed range [2, inf): a one-column open pipe stays stationary up to I = 1, so the bisection cannot bracket I_c (it would report I_c = 1 +- 0); choose W >= 2"),
+            )
+            .into());
+        }
     }
     let (l0, w0) = geoms[0];
     let main_pipe = format!("L = {l0}, W = {w0}");
@@ -311,6 +343,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         site_updates: bisect_rows.iter().map(|r| r[0] * r[1]).sum::<f64>() * (runs as u64 * steps) as f64
             + site_updates(&points, sruns, setup_of),
         metrics,
+        missing_metrics: Default::default(),
         checks,
     })?;
     Ok(())

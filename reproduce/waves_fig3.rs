@@ -27,7 +27,7 @@ struct Args {
     #[command(flatten)]
     wave: WaveOptions,
     /// Steps per run (default by tier: 20000, 50000, 100000).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     steps: Option<u64>,
 }
 

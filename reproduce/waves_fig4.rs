@@ -38,7 +38,7 @@ struct Args {
     #[command(flatten)]
     wave: WaveOptions,
     /// Pipe lengths (multiples of 4), comma separated.
-    #[arg(long, value_delimiter = ',', default_values_t = vec![128usize, 256, 512, 1024])]
+    #[arg(long, value_delimiter = ',', default_values_t = vec![128usize, 256, 512, 1024], allow_hyphen_values = true)]
     lengths: Vec<usize>,
 }
 
@@ -52,6 +52,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, c) = args.wave.start("waves-fig4", "PH95 Fig. 4")?;
     let runs = c.runs_or(4, 16, 64);
+    granular_automata::cli::reject_duplicates("--lengths", &args.lengths)?;
+    for &length in &args.lengths {
+        args.wave.pipe(length, BIN)?; // a bad length fails before any run
+    }
     let steady = Steady::ph95(c.tier, c.tier.pick(512, 2048, 2048), T0);
     let (fields, warmup) = (steady.fields, steady.warmup);
     let mut per_l: Vec<(Params, Option<Vec<ProfileRun>>)> = Vec::new();

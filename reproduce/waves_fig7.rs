@@ -109,6 +109,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         wall_seconds: wall,
         site_updates: (2 * runs as u64 * setup0.steps() * base.sites() as u64) as f64,
         metrics,
+        missing_metrics: Default::default(),
         checks,
     })?;
     Ok(())

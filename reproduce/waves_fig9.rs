@@ -26,7 +26,7 @@ struct Args {
     /// locate the validity limit (default by tier; quick:
     /// 0.2,0.6,1,1.4,2,3). Sorted; the largest is the one that must reach
     /// the limit.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     rho: Vec<f64>,
 }
 
@@ -47,13 +47,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     } else {
         args.rho.clone()
     };
+    granular_automata::cli::reject_duplicates("--rho", &rhos)?;
     rhos.sort_by(f64::total_cmp);
-    rhos.dedup();
     // p = b = g = 0.5
     let base = Params::default();
     let points = points_1d("rho", &rhos, |rho| Params { rho, ..base });
     for p in &points {
-        p.params.validate()?; // a bad --rho fails before any run
+        // a bad --rho fails before any run, naming the option
+        p.params
+            .validate()
+            .map_err(|e| granular_automata::Error::new(e.kind, format!("--rho: {}", e.message)))?;
     }
     let Some(fig) = SweepFigure::run("waves-fig9", "PH95 Fig. 9", &args.pipe, points)? else {
         return Ok(());

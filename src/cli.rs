@@ -13,6 +13,69 @@ use crate::pipe::{Params, Rules};
 use crate::run::{Figure, Tier};
 use std::path::PathBuf;
 
+pub use crate::ensemble::MAX_RUNS;
+
+/// Largest `--threads` accepted (far above any machine this runs on).
+pub const MAX_THREADS: usize = 1024;
+
+/// Parse a whole number `s` of option `name` in `lo..=hi`; otherwise an
+/// [`crate::ErrorKind::InvalidParameter`] error naming the option, the value
+/// and the range (never a silent coercion: `--runs 0` is an error).
+pub fn parse_count(name: &str, s: &str, lo: usize, hi: usize) -> crate::Result<usize> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if (lo..=hi).contains(&n) => Ok(n),
+        _ => Err(crate::Error::out_of_range(name, s, &format!("{lo}..={hi}"))),
+    }
+}
+
+/// Parse `--runs`: a whole number in 1..=[`MAX_RUNS`].
+pub fn parse_runs(s: &str) -> crate::Result<usize> {
+    parse_count("--runs", s, 1, MAX_RUNS)
+}
+
+/// Parse `--threads`: a whole number in 1..=[`MAX_THREADS`].
+pub fn parse_threads(s: &str) -> crate::Result<usize> {
+    parse_count("--threads", s, 1, MAX_THREADS)
+}
+
+/// Reject a list option whose entries repeat (e.g. `--lengths 128,128`,
+/// which would run and report the same set-up twice): an
+/// [`crate::ErrorKind::InvalidParameter`] error naming the option and the
+/// repeated value.
+pub fn reject_duplicates<T: PartialEq + std::fmt::Display>(
+    option: &str,
+    values: &[T],
+) -> crate::Result<()> {
+    for (i, v) in values.iter().enumerate() {
+        if values[..i].contains(v) {
+            return Err(crate::Error::new(
+                crate::ErrorKind::InvalidParameter,
+                format!("{option}: {v} is given more than once; give each value once"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Reject a pipe of fewer than two bins: its one bin count is the
+/// conserved particle number (periodic pipe) or the whole pipe, so no wave,
+/// profile or bin spectrum can be measured. An
+/// [`crate::ErrorKind::InvalidParameter`] error naming L and the allowed range.
+pub fn check_two_bins(length: usize, bin: usize) -> crate::Result<()> {
+    if length < 2 * bin {
+        return Err(crate::Error::new(
+            crate::ErrorKind::InvalidParameter,
+            format!(
+                "L = {length} with bins of {bin} rows is a pipe of {} bin(s): nothing to measure between bins; \
+                 choose L in [{}, inf), a multiple of {bin}",
+                length / bin,
+                2 * bin
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Options every figure binary takes (flatten into its own `clap::Parser`).
 #[derive(Debug, Clone, clap::Args)]
 pub struct Common {
@@ -20,10 +83,10 @@ pub struct Common {
     #[arg(long, value_enum, default_value_t = Tier::Quick)]
     pub tier: Tier,
     /// Base seed; run i of an ensemble uses derive_seed(seed, i).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
-    /// Number of independent runs to average (default: set by the tier).
-    #[arg(long)]
+    /// Number of independent runs to average, 1..=100000 (default: set by the tier).
+    #[arg(long, value_parser = parse_runs, allow_negative_numbers = true)]
     pub runs: Option<usize>,
     /// Output folder; the figure writes into `OUT/<binary>/`.
     #[arg(long, default_value = "results")]
@@ -31,10 +94,10 @@ pub struct Common {
     /// Run only shard i of n (runs r with r mod n = i, 0 <= i < n), e.g.
     /// `--shard $SLURM_ARRAY_TASK_ID/8`; combine the shards' --out folders
     /// with the `merge` binary, then rerun without --shard to analyse.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub shard: Option<Shard>,
-    /// Worker threads (default: all cores); results do not depend on it.
-    #[arg(long)]
+    /// Worker threads, 1..=1024 (default: all cores); results do not depend on it.
+    #[arg(long, value_parser = parse_threads, allow_negative_numbers = true)]
     pub threads: Option<usize>,
 }
 
@@ -106,7 +169,7 @@ pub struct WaveOptions {
     #[command(flatten)]
     pub rules: PipeRules,
     /// Dissipation p (the figure: 0.1); p = 0 is the wave-free control.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
     pub p: f64,
 }
 
@@ -123,7 +186,8 @@ impl WaveOptions {
 
     /// The pipe of the PH95 wave figures, `length` rows in bins of `bin`
     /// rows, with `--p`: otherwise that of PH94 Fig. 1 (W = 11, rho = 1,
-    /// g = b = 0.5, periodic; [`fig1_pipe`]); validated.
+    /// g = b = 0.5, periodic; [`fig1_pipe`]); validated, with at least two
+    /// bins ([`check_two_bins`]).
     pub fn pipe(&self, length: usize, bin: usize) -> crate::Result<Params> {
         let params = Params {
             length,
@@ -132,14 +196,15 @@ impl WaveOptions {
             ..fig1_pipe()
         };
         params.validate()?;
+        check_two_bins(length, bin)?;
         Ok(params)
     }
 }
 
 impl Common {
-    /// `--threads` if given, else all cores.
+    /// `--threads` if given (1..=[`MAX_THREADS`], checked when parsed), else all cores.
     pub fn thread_count(&self) -> usize {
-        self.threads.unwrap_or_else(crate::run::threads).max(1)
+        self.threads.unwrap_or_else(crate::run::threads)
     }
 
     /// For figures that keep all their runs in one process: a `--shard` is
@@ -154,11 +219,10 @@ impl Common {
         }
     }
 
-    /// `--runs` if given, else the tier's default; at least 1.
+    /// `--runs` if given (1..=[`MAX_RUNS`], checked when parsed), else the
+    /// tier's default.
     pub fn runs_or(&self, quick: usize, standard: usize, paper: usize) -> usize {
-        self.runs
-            .unwrap_or(self.tier.pick(quick, standard, paper))
-            .max(1)
+        self.runs.unwrap_or(self.tier.pick(quick, standard, paper))
     }
 
     /// The ensemble runner of a figure (`crate::ensemble`): `runs` runs of the
@@ -177,5 +241,68 @@ impl Common {
             Some(n) => e.threads(n),
             None => e,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    fn parse(args: &[&str]) -> std::result::Result<PipeArgs, String> {
+        PipeArgs::try_parse_from(std::iter::once("fig").chain(args.iter().copied()))
+            .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn runs_and_threads_out_of_range_are_errors_naming_the_option() {
+        for bad in [
+            "0",
+            "100001",
+            "18446744073709551615",
+            "99999999999999999999",
+            "-1",
+        ] {
+            let e = parse(&["--runs", bad]).unwrap_err();
+            assert!(e.contains("--runs") && e.contains("1..=100000"), "{e}");
+        }
+        for bad in ["0", "1025", "-2"] {
+            let e = parse(&["--threads", bad]).unwrap_err();
+            assert!(e.contains("--threads") && e.contains("1..=1024"), "{e}");
+        }
+        let a = parse(&["--runs", "100000", "--threads", "1"]).unwrap();
+        assert_eq!(a.common.runs_or(1, 1, 1), 100000);
+        assert_eq!(a.common.thread_count(), 1);
+        assert_eq!(parse(&[]).unwrap().common.runs_or(3, 4, 5), 3);
+    }
+
+    #[test]
+    fn duplicates_and_one_bin_pipes_are_errors_naming_the_value() {
+        let e = reject_duplicates("--lengths", &[128, 256, 128]).unwrap_err();
+        assert!(e.message.contains("--lengths: 128"), "{}", e.message);
+        assert!(reject_duplicates("--lengths", &[128, 256]).is_ok());
+        let e = check_two_bins(8, 8).unwrap_err();
+        assert!(e.message.contains("L = 8") && e.message.contains("[16, inf)"));
+        assert!(check_two_bins(16, 8).is_ok());
+        let opts = WaveOptions {
+            common: parse(&[]).unwrap().common,
+            rules: PipeRules {
+                rules: "default".into(),
+            },
+            p: 0.1,
+        };
+        assert!(opts.pipe(8, 8).is_err() && opts.pipe(16, 8).is_ok());
+    }
+
+    #[test]
+    fn negative_numbers_reach_the_range_check() {
+        #[derive(clap::Parser)]
+        struct Fig {
+            #[command(flatten)]
+            wave: WaveOptions,
+        }
+        let f = Fig::try_parse_from(["fig", "--p", "-0.1"]).unwrap();
+        let e = f.wave.pipe(16, 8).unwrap_err();
+        assert!(e.message.contains("p = -0.1"), "{}", e.message);
     }
 }

@@ -12,6 +12,17 @@
 //! 64-bit FNV-1a hash names the folder, and `config.json` inside holds the key
 //! in full.
 //!
+//! Integrity: every run file carries a `checksum`, the FNV-1a hash of its
+//! canonical JSON (configuration key, index, seed and result; object keys
+//! sorted) without the checksum. Loading a run for the analysis and [`merge`]
+//! recompute it, so a hand-edited or damaged run file is rejected with a
+//! message naming it, never used silently. (A 64-bit FNV-1a: a check
+//! against edits and damage, not against forgery; no dependency needed.)
+//! [`merge`] is all or nothing: every file is verified and compared before
+//! anything is written, the new files are staged in a temporary folder
+//! inside the target and then renamed into place; a failed merge leaves
+//! the target as it was.
+//!
 //! Determinism: each run is a pure function of (configuration, index), so the
 //! results are identical for any thread count and any shard split; floats
 //! are written in the shortest form that reads back to the same bits
@@ -81,6 +92,11 @@ impl FromStr for Shard {
     }
 }
 
+/// Largest number of runs of one ensemble (`--runs`): far above any
+/// published ensemble (64 runs), small enough that the per-run bookkeeping
+/// never exhausts memory.
+pub const MAX_RUNS: usize = 100_000;
+
 /// 64-bit FNV-1a hash (stable across platforms and versions), used to name
 /// the folder of a configuration.
 pub fn fnv1a64(bytes: &[u8]) -> u64 {
@@ -135,6 +151,74 @@ struct RunFile<T> {
     result: T,
 }
 
+/// An [`ErrorKind::Io`] error of `what` at `path`.
+fn io_error(path: &Path, what: &str, e: impl fmt::Display) -> Error {
+    Error::new(
+        ErrorKind::Io,
+        format!("cannot {what} {}: {e}", path.display()),
+    )
+}
+
+/// The checksum of a run file's JSON object without its `checksum` field:
+/// FNV-1a of the canonical (key-sorted) JSON text, as 16 hex digits.
+fn checksum_of(body: &serde_json::Map<String, serde_json::Value>) -> String {
+    let mut body = body.clone();
+    body.remove("checksum");
+    let canonical = serde_json::Value::Object(body).to_string();
+    format!("{:016x}", fnv1a64(canonical.as_bytes()))
+}
+
+/// The text of a run file with its checksum.
+fn seal<T: Serialize>(file: &RunFile<T>) -> Result<String> {
+    let mut body = match serde_json::to_value(file) {
+        Ok(serde_json::Value::Object(m)) => m,
+        Ok(_) => unreachable!("a run file serialises to an object"),
+        Err(e) => {
+            return Err(Error::new(
+                ErrorKind::Io,
+                format!("cannot serialise run {}: {e}", file.index),
+            ))
+        }
+    };
+    let sum = checksum_of(&body);
+    body.insert("checksum".into(), serde_json::Value::String(sum));
+    Ok(serde_json::Value::Object(body).to_string())
+}
+
+/// Verify the checksum of run file `path` holding `text`: its parsed
+/// object, or an [`ErrorKind::Io`] error naming the file.
+pub fn verify_run_file(
+    path: &Path,
+    text: &str,
+) -> Result<serde_json::Map<String, serde_json::Value>> {
+    let bad = |why: String| {
+        Error::new(
+            ErrorKind::Io,
+            format!(
+                "run file {} {why}; it was edited, damaged or written by an older version: \
+                 delete it to recompute that run",
+                path.display()
+            ),
+        )
+    };
+    let body = match serde_json::from_str::<serde_json::Value>(text) {
+        Ok(serde_json::Value::Object(m)) => m,
+        Ok(_) => return Err(bad("is not a JSON object".into())),
+        Err(e) => return Err(bad(format!("is not JSON ({e})"))),
+    };
+    let stated = match body.get("checksum") {
+        Some(serde_json::Value::String(s)) => s.clone(),
+        _ => return Err(bad("has no checksum".into())),
+    };
+    let actual = checksum_of(&body);
+    if stated != actual {
+        return Err(bad(format!(
+            "fails its checksum (stated {stated}, content gives {actual})"
+        )));
+    }
+    Ok(body)
+}
+
 /// An ensemble of independent runs of one figure configuration, with resume
 /// from per-run files and sharding (module docs).
 #[derive(Debug, Clone)]
@@ -161,8 +245,12 @@ impl Ensemble {
         runs: usize,
         shard: Option<Shard>,
     ) -> Result<Self> {
-        if runs == 0 {
-            return Err(Error::out_of_range("--runs", 0, "[1, inf)"));
+        if !(1..=MAX_RUNS).contains(&runs) {
+            return Err(Error::out_of_range(
+                "--runs",
+                runs,
+                &format!("1..={MAX_RUNS}"),
+            ));
         }
         let key = serde_json::json!({"binary": binary, "base_seed": base_seed, "config": key});
         let text = serde_json::to_string(&key)
@@ -253,16 +341,18 @@ impl Ensemble {
 
     fn load<T: DeserializeOwned>(&self, index: usize) -> Result<T> {
         let path = self.run_path(index);
-        let text = fs::read_to_string(&path)?;
-        let file: RunFile<T> = serde_json::from_str(&text).map_err(|e| {
-            Error::new(
-                ErrorKind::Io,
-                format!(
+        let text = fs::read_to_string(&path).map_err(|e| io_error(&path, "read", e))?;
+        let body = verify_run_file(&path, &text)?;
+        let file: RunFile<T> =
+            serde_json::from_value(serde_json::Value::Object(body)).map_err(|e| {
+                Error::new(
+                    ErrorKind::Io,
+                    format!(
                     "{} is not a run file of this figure ({e}); delete it to recompute that run",
                     path.display()
                 ),
-            )
-        })?;
+                )
+            })?;
         if file.index != index || file.seed != self.seed(index) || file.key != self.key {
             return Err(Error::new(
                 ErrorKind::Io,
@@ -284,8 +374,7 @@ impl Ensemble {
             seed: self.seed(index),
             result,
         };
-        let text = serde_json::to_string(&file)
-            .map_err(|e| Error::new(ErrorKind::Io, format!("cannot serialise run {index}: {e}")))?;
+        let text = seal(&file)?;
         write_atomic(&self.run_path(index), text.as_bytes())
     }
 
@@ -387,12 +476,18 @@ fn read_dir_sorted(dir: &Path) -> Result<Vec<PathBuf>> {
 }
 
 /// Merge shard output folders: copy every `<binary>/runs/<hash>/` file of
-/// each folder in `from` into `into` (same layout). A file present on both
-/// sides must be byte-identical (runs are pure functions of their seed), else
-/// a typed error names it. After the merge, running the figure without
-/// `--shard` on `into` finds every run finished and only analyses.
+/// each folder in `from` into `into` (same layout). Every run file must
+/// pass its checksum and every `config.json` must hash to its folder's
+/// name; a file present on both sides must be byte-identical (runs are pure
+/// functions of their seed). All or nothing: everything is verified before
+/// anything is written, new files are staged in a temporary folder inside
+/// `into` and then renamed into place, and any failure removes what this
+/// merge wrote; errors name the file. After the merge, running the figure
+/// without `--shard` on `into` finds every run finished and only analyses.
 pub fn merge(into: &Path, from: &[PathBuf]) -> Result<MergeReport> {
     let mut report = MergeReport::default();
+    // 1. verify and plan: (destination, bytes) of every new file
+    let mut plan: Vec<(PathBuf, Vec<u8>)> = Vec::new();
     for src in from {
         if !src.is_dir() {
             return Err(Error::new(
@@ -413,21 +508,43 @@ pub fn merge(into: &Path, from: &[PathBuf]) -> Result<MergeReport> {
                 if !cfg.is_dir() {
                     continue;
                 }
-                let target = into
-                    .join(&binary)
-                    .join("runs")
-                    .join(cfg.file_name().expect("a folder name"));
-                fs::create_dir_all(&target)?;
+                let hash = cfg.file_name().expect("a folder name").to_owned();
+                let target = into.join(&binary).join("runs").join(&hash);
                 for file in read_dir_sorted(&cfg)? {
-                    let name = file.file_name().expect("a file name");
-                    if !name.to_string_lossy().ends_with(".json") {
+                    let name = file.file_name().expect("a file name").to_owned();
+                    let name_s = name.to_string_lossy();
+                    if !name_s.ends_with(".json") {
                         continue; // temporary files of an interrupted write
                     }
-                    let is_run = name.to_string_lossy().starts_with("run-");
-                    let bytes = fs::read(&file)?;
-                    let dest = target.join(name);
-                    if dest.exists() {
-                        if fs::read(&dest)? != bytes {
+                    let is_run = name_s.starts_with("run-");
+                    let bytes = fs::read(&file).map_err(|e| io_error(&file, "read", e))?;
+                    if is_run {
+                        let text = String::from_utf8_lossy(&bytes);
+                        verify_run_file(&file, &text)?;
+                    } else if name_s == "config.json"
+                        && format!("{:016x}", fnv1a64(&bytes)) != hash.to_string_lossy()
+                    {
+                        return Err(Error::new(
+                            ErrorKind::Io,
+                            format!(
+                                "{} does not hash to its folder name {}; it was edited or moved: \
+                                 delete that folder from the shard and rerun the shard",
+                                file.display(),
+                                hash.to_string_lossy()
+                            ),
+                        ));
+                    }
+                    let dest = target.join(&name);
+                    let planned = plan.iter().find(|(d, _)| *d == dest).map(|(_, b)| b);
+                    let existing = if let Some(b) = planned {
+                        Some(b.clone())
+                    } else if dest.exists() {
+                        Some(fs::read(&dest).map_err(|e| io_error(&dest, "read", e))?)
+                    } else {
+                        None
+                    };
+                    match existing {
+                        Some(old) if old != bytes => {
                             return Err(Error::new(
                                 ErrorKind::Io,
                                 format!(
@@ -438,18 +555,57 @@ pub fn merge(into: &Path, from: &[PathBuf]) -> Result<MergeReport> {
                                 ),
                             ));
                         }
-                        if is_run {
-                            report.identical += 1;
-                        }
-                    } else {
-                        write_atomic(&dest, &bytes)?;
-                        if is_run {
-                            report.copied += 1;
+                        Some(_) => report.identical += is_run as usize,
+                        None => {
+                            report.copied += is_run as usize;
+                            plan.push((dest, bytes));
                         }
                     }
                 }
             }
         }
+    }
+    if plan.is_empty() {
+        return Ok(report);
+    }
+    // 2. stage, then rename into place; undo everything on failure
+    fs::create_dir_all(into).map_err(|e| io_error(into, "create", e))?;
+    let staging = into.join(format!(".merge-staging-{}", std::process::id()));
+    let mut created: Vec<PathBuf> = Vec::new();
+    let mut placed: Vec<PathBuf> = Vec::new();
+    let result = (|| -> Result<()> {
+        fs::create_dir_all(&staging).map_err(|e| io_error(&staging, "create", e))?;
+        let mut staged = Vec::new();
+        for (k, (dest, bytes)) in plan.iter().enumerate() {
+            let tmp = staging.join(format!("{k:06}.json"));
+            fs::write(&tmp, bytes).map_err(|e| io_error(&tmp, "write", e))?;
+            staged.push((tmp, dest));
+        }
+        for (tmp, dest) in staged {
+            let dir = dest.parent().expect("a run folder");
+            // remember the folders this merge creates, outermost first
+            let mut new_dirs: Vec<PathBuf> = dir
+                .ancestors()
+                .take_while(|d| !d.exists())
+                .map(Path::to_path_buf)
+                .collect();
+            new_dirs.reverse();
+            fs::create_dir_all(dir).map_err(|e| io_error(dir, "create", e))?;
+            created.extend(new_dirs);
+            fs::rename(&tmp, dest).map_err(|e| io_error(dest, "move into place", e))?;
+            placed.push(dest.clone());
+        }
+        Ok(())
+    })();
+    let _ = fs::remove_dir_all(&staging);
+    if let Err(e) = result {
+        for f in &placed {
+            let _ = fs::remove_file(f);
+        }
+        for d in created.iter().rev() {
+            let _ = fs::remove_dir(d);
+        }
+        return Err(e);
     }
     Ok(report)
 }
@@ -472,6 +628,24 @@ mod tests {
         let s = Shard { index: 1, count: 3 };
         let owned: Vec<usize> = (0..8).filter(|&r| s.owns(r)).collect();
         assert_eq!(owned, vec![1, 4, 7]);
+    }
+
+    #[test]
+    fn run_files_carry_a_checksum_that_catches_edits() {
+        let file = RunFile {
+            key: serde_json::json!({"rho": 1.0}),
+            index: 3,
+            seed: 42,
+            result: vec![0.5, 1.25],
+        };
+        let text = seal(&file).unwrap();
+        let path = Path::new("run-00003.json");
+        assert!(verify_run_file(path, &text).is_ok());
+        let edited = text.replace("1.25", "1.5");
+        let e = verify_run_file(path, &edited).unwrap_err();
+        assert!(e.message.contains("run-00003.json") && e.message.contains("checksum"));
+        let old = serde_json::to_string(&file).unwrap(); // no checksum
+        assert!(verify_run_file(path, &old).is_err());
     }
 
     #[test]

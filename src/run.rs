@@ -225,8 +225,12 @@ pub struct Summary {
     pub wall_seconds: f64,
     /// Total number of site updates (sites x steps) computed.
     pub site_updates: f64,
-    /// Named numbers (metric names fixed by the issues).
+    /// Named numbers (metric names fixed by the issues); finite only: a
+    /// metric without a value is moved to `missing_metrics` when written.
     pub metrics: BTreeMap<String, f64>,
+    /// Metrics that have no value (NaN or infinite, e.g. a mean over no
+    /// qualifying run), each with the reason; never written as NaN/null.
+    pub missing_metrics: BTreeMap<String, String>,
     /// Comparisons with published values.
     pub checks: Vec<Check>,
 }
@@ -245,6 +249,8 @@ pub struct Figure {
     pub tier: Tier,
     /// Rule variant(s), as printed by the model.
     pub rules: String,
+    /// Why a metric may have no value ([`Figure::explain_missing`]).
+    missing: BTreeMap<String, String>,
     start: Instant,
 }
 
@@ -256,8 +262,18 @@ impl Figure {
             paper,
             tier,
             rules,
+            missing: BTreeMap::new(),
             start: Instant::now(),
         }
+    }
+
+    /// State why metric `name` (and `name_err`) may have no value, e.g. "no
+    /// run forms bands": if it is not finite when the summary is written, it
+    /// is left out of `metrics` and listed in `missing_metrics` with this
+    /// reason (otherwise with a generic one).
+    pub fn explain_missing(mut self, name: &str, reason: &str) -> Self {
+        self.missing.insert(name.to_string(), reason.to_string());
+        self
     }
 
     /// Create (if needed) the output folder `out/<binary>/`.
@@ -286,9 +302,38 @@ impl Figure {
             wall_seconds: self.start.elapsed().as_secs_f64(),
             site_updates,
             metrics,
+            missing_metrics: self.missing.clone(),
             checks,
         })?;
         Ok(())
+    }
+}
+
+/// The reason given for a metric without a value when the figure states none.
+pub const NO_VALUE: &str =
+    "no value: the measurement is not finite (NaN or infinite), e.g. a mean over no qualifying run";
+
+impl Summary {
+    /// This summary with every non-finite metric moved to `missing_metrics`,
+    /// with the reason stated for it (or for `name` of `name_err`) in
+    /// `missing_metrics`, else [`NO_VALUE`]; reasons of metrics that do have
+    /// a value are dropped.
+    pub fn without_missing_metrics(&self) -> Summary {
+        let mut s = self.clone();
+        let reasons = std::mem::take(&mut s.missing_metrics);
+        let reason = |k: &str| {
+            reasons
+                .get(k)
+                .or_else(|| k.strip_suffix("_err").and_then(|b| reasons.get(b)))
+                .map_or(NO_VALUE.to_string(), |r| format!("no value: {r}"))
+        };
+        s.metrics.retain(|k, v| {
+            if !v.is_finite() {
+                s.missing_metrics.insert(k.clone(), reason(k));
+            }
+            v.is_finite()
+        });
+        s
     }
 }
 
@@ -347,7 +392,8 @@ impl Output {
         &self.dir
     }
 
-    /// Write a CSV file with a header line and rows of numbers.
+    /// Write a CSV file with a header line and rows of numbers; a value that
+    /// is not finite (NaN: nothing to measure) is written as an empty cell.
     pub fn write_csv<S: AsRef<str>>(
         &self,
         name: &str,
@@ -360,7 +406,16 @@ impl Output {
         s.push_str(&header.join(","));
         s.push('\n');
         for r in rows {
-            let line: Vec<String> = r.iter().map(|v| format!("{v}")).collect();
+            let line: Vec<String> = r
+                .iter()
+                .map(|v| {
+                    if v.is_finite() {
+                        format!("{v}")
+                    } else {
+                        String::new()
+                    }
+                })
+                .collect();
             s.push_str(&line.join(","));
             s.push('\n');
         }
@@ -400,15 +455,21 @@ impl Output {
         self.write_csv(name, header, &rows)
     }
 
-    /// Write `summary.json` and print one line per check on stdout.
+    /// Write `summary.json` and print one line per metric and per check on
+    /// stdout; metrics without a value go to `missing_metrics`, never NaN
+    /// or null ([`Summary::without_missing_metrics`]).
     pub fn finish(&self, summary: &Summary) -> Result<PathBuf> {
         let path = self.path("summary.json");
+        let summary = &summary.without_missing_metrics();
         let text = serde_json::to_string_pretty(summary)
             .map_err(|e| Error::new(ErrorKind::Io, format!("cannot serialise summary: {e}")))?;
         write_atomic(&path, text.as_bytes())?;
         println!("wrote {}", self.dir.display());
         for (k, v) in &summary.metrics {
             println!("  {k} = {v:.6}");
+        }
+        for (k, why) in &summary.missing_metrics {
+            println!("  {k}: {why}");
         }
         for c in &summary.checks {
             println!("{}", c.line());
@@ -527,6 +588,35 @@ mod tests {
         assert_eq!(e, vec![1.0, 0.0]);
         let s = stats_by(&[1.0, 3.0], &[("x", |v: &f64| *v)]);
         assert_eq!(s["x"], (2.0, 1.0));
+    }
+
+    #[test]
+    fn metrics_without_value_are_listed_with_a_reason_never_written_as_nan() {
+        let dir = std::env::temp_dir().join(format!("ga-missing-{}", std::process::id()));
+        let fig = Figure::start("t", "test", Tier::Quick, "r".into())
+            .explain_missing("v_waves", "no run forms bands");
+        let out = fig.output(&dir).unwrap();
+        let metrics = metrics_of([
+            ("a", 1.0),
+            ("v_waves", f64::NAN),
+            ("v_waves_err", f64::NAN),
+            ("b", f64::INFINITY),
+        ]);
+        fig.finish(&out, vec![1], serde_json::json!({}), 0.0, metrics, vec![])
+            .unwrap();
+        let text = std::fs::read_to_string(out.path("summary.json")).unwrap();
+        assert!(!text.contains("null"), "{text}");
+        let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(s["metrics"], serde_json::json!({"a": 1.0}));
+        let missing = &s["missing_metrics"];
+        assert_eq!(missing["v_waves"], "no value: no run forms bands");
+        assert_eq!(missing["v_waves_err"], "no value: no run forms bands");
+        assert_eq!(missing["b"], NO_VALUE);
+        out.write_csv("x.csv", &["a", "b"], &[vec![1.5, f64::NAN]])
+            .unwrap();
+        let csv = std::fs::read_to_string(out.path("x.csv")).unwrap();
+        assert_eq!(csv, "a,b\n1.5,\n");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

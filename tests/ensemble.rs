@@ -258,3 +258,53 @@ fn figure_binary_shards_merge_and_resume() {
     assert!(!st.status.success());
     assert!(String::from_utf8_lossy(&st.stderr).contains("2/2"));
 }
+
+#[test]
+fn edited_run_files_are_rejected_and_a_failed_merge_leaves_nothing() {
+    // two shards; run 1 of shard 1 is edited by hand afterwards
+    let mut parts = Vec::new();
+    for i in 0..2 {
+        let dir = fresh(&format!("edit-shard{i}"));
+        let shard = Shard { index: i, count: 2 };
+        let e = Ensemble::new(&dir, "t", &key(), SEED, 4, Some(shard))
+            .unwrap()
+            .quiet();
+        e.run(300, |_, seed, _| one_run(seed)).unwrap();
+        parts.push(dir);
+    }
+    let e1 = Ensemble::new(&parts[1], "t", &key(), SEED, 4, None).unwrap();
+    let edited = e1.run_path(1);
+    let text = std::fs::read_to_string(&edited).unwrap();
+    let pos = text.find("\"result\"").unwrap();
+    // change one digit of the result, keep the JSON valid
+    let digit = text[pos..]
+        .find(|c: char| c.is_ascii_digit() && c != '9')
+        .unwrap()
+        + pos;
+    let mut bytes = text.into_bytes();
+    bytes[digit] += 1;
+    std::fs::write(&edited, &bytes).unwrap();
+    let merged = fresh("edit-merged");
+    let err = merge(&merged, &parts).unwrap_err();
+    assert_eq!(err.kind, ErrorKind::Io);
+    assert!(
+        err.message.contains(&edited.display().to_string()) && err.message.contains("checksum"),
+        "{}",
+        err.message
+    );
+    assert!(!merged.exists(), "a failed merge writes nothing");
+    // the analysis rejects it too, naming the file
+    let all = Ensemble::new(&parts[1], "t", &key(), SEED, 4, None)
+        .unwrap()
+        .threads(1)
+        .quiet();
+    let err = all
+        .run(300, |_, seed, _| one_run(seed))
+        .map(|_| ())
+        .unwrap_err();
+    assert!(
+        err.message.contains("run-00001.json") && err.message.contains("checksum"),
+        "{}",
+        err.message
+    );
+}

@@ -1,17 +1,17 @@
 //! Smoke test of the reproduction matrix (issue 4): one reading, one run per
 //! set-up at the quick tier; the outputs exist, every claim is graded, and the
-//! cached result is reused on a second call (resume).
+//! cached result is reused on a second call (resume: the cache file is not
+//! rewritten and the matrix is the same; no wall-clock comparison, which
+//! can fail on shared cores).
 
 use std::path::PathBuf;
 use std::process::Command;
-use std::time::Instant;
 
 #[test]
 fn matrix_grades_every_claim_and_resumes_from_its_cache() {
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("pipe-matrix");
     let _ = std::fs::remove_dir_all(&out);
     let run = || {
-        let t = Instant::now();
         let status = Command::new(env!("CARGO_BIN_EXE_pipe-matrix"))
             .args([
                 "--tier",
@@ -26,9 +26,8 @@ fn matrix_grades_every_claim_and_resumes_from_its_cache() {
             .status()
             .unwrap();
         assert!(status.success());
-        t.elapsed().as_secs_f64()
     };
-    let first = run();
+    run();
     let dir = out.join("pipe-matrix");
     for f in ["matrix.md", "matrix.csv", "pipe-matrix.png", "summary.json"] {
         assert!(dir.join(f).exists(), "{f}");
@@ -50,9 +49,21 @@ fn matrix_grades_every_claim_and_resumes_from_its_cache() {
     assert_eq!(s["metrics"]["claims"], 11.0);
     // the default reading is not among --readings here
     assert!(s["metrics"]["default_reproduced"].is_null());
-    let second = run();
-    assert!(
-        second < first / 3.0,
-        "second call reuses the saved reading ({second:.1} s vs {first:.1} s)"
+    let cached: Vec<_> = std::fs::read_dir(dir.join("variants"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(cached.len(), 1, "one cached reading: {cached:?}");
+    let stamp = |p: &PathBuf| std::fs::metadata(p).unwrap().modified().unwrap();
+    let before = stamp(&cached[0]);
+    run();
+    assert_eq!(
+        stamp(&cached[0]),
+        before,
+        "the second call reuses the saved reading instead of rewriting it"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("matrix.csv")).unwrap(),
+        csv
     );
 }

@@ -51,11 +51,17 @@ impl GeometryParams {
         check_min("outlet_width", self.outlet_width, 1)?;
         check_min("channel_height", self.channel_height, 1)?;
         check_min("width", self.width, 3)?;
-        if self.outlet_width + 2 > self.width {
+        let most = max_outlet_width(self.width);
+        if self.outlet_width > most {
             return Err(Error::out_of_range(
                 "outlet_width",
                 self.outlet_width,
-                &format!("[1, {}] for width = {}", self.width - 2, self.width),
+                &format!(
+                    "[1, {most}] for width = {} (the outlet is centred on column {} between the wall columns 0 and {})",
+                    self.width,
+                    self.width / 2,
+                    self.width - 1
+                ),
             ));
         }
         check_min("height", self.height, self.channel_height + 4)?;
@@ -68,6 +74,26 @@ impl GeometryParams {
         }
         Ok(())
     }
+}
+
+/// Whether an outlet of `outlet` columns, centred on column `width / 2`
+/// (columns `width/2 - (outlet-1)/2 ..`, see [`Geometry::new`]), lies
+/// between the wall columns 0 and `width - 1`.
+fn outlet_fits(outlet: usize, width: usize) -> bool {
+    let c0 = width / 2;
+    let left = (outlet.max(1) - 1) / 2;
+    let right = outlet.max(1) - 1 - left;
+    outlet >= 1 && c0 > left && c0 + right + 2 <= width
+}
+
+/// The widest outlet a hopper of `width` columns holds (its whole base:
+/// `width - 2` columns when the centring allows, else `width - 3`); 0 when
+/// `width < 3`.
+pub fn max_outlet_width(width: usize) -> usize {
+    (1..width.saturating_sub(1))
+        .rev()
+        .find(|&o| outlet_fits(o, width))
+        .unwrap_or(0)
 }
 
 /// Kind of a site of the hopper container (never changes except the plug).
@@ -217,6 +243,27 @@ mod tests {
         // symmetric within one column
         let (a, b) = g.row_span(100).unwrap();
         assert!((a as i64 + b as i64 - 2 * g.centre_column as i64).abs() <= 1);
+    }
+
+    #[test]
+    fn the_widest_outlet_fits_and_one_more_is_an_error() {
+        for width in 3..40 {
+            let most = max_outlet_width(width);
+            assert!(
+                most + 3 >= width && most + 2 <= width,
+                "width {width}: {most}"
+            );
+            let p = |outlet_width| GeometryParams {
+                width,
+                height: 20,
+                outlet_width,
+                channel_height: 4,
+            };
+            let g = Geometry::new(p(most)).unwrap();
+            assert_eq!(g.row_span(1).map(|(a, b)| b - a + 1), Some(most));
+            let e = Geometry::new(p(most + 1)).unwrap_err();
+            assert!(e.message.contains(&format!("[1, {most}]")), "{}", e.message);
+        }
     }
 
     #[test]

@@ -51,6 +51,13 @@ pub enum Boundary {
     },
 }
 
+/// The allowed densities of the periodic pipe, open at both ends (A8): rho
+/// counts moving particles per site and a site has 6 moving channels, so
+/// rho = 0 is an empty pipe (every bin density n_i / rho is 0/0) and rho = 6
+/// a full one (every channel occupied, nothing can move, every observable
+/// is constant). Both make the measured quantities NaN, so both are rejected.
+pub const RHO_RANGE: (f64, f64) = (0.0, 6.0);
+
 /// Parameters of a pipe run (MODEL.md A1-A9).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Params {
@@ -58,7 +65,9 @@ pub struct Params {
     pub width: usize,
     /// L: number of rows (pipe length), a multiple of `bin`.
     pub length: usize,
-    /// rho: mean number of moving particles per site at the start, in [0, 6] (A8).
+    /// rho: mean number of moving particles per site at the start (A8), in
+    /// (0, 6) for the periodic pipe ([`RHO_RANGE`]); unused by the open pipe,
+    /// which starts empty (there in [0, 6]).
     pub rho: f64,
     /// p: probability of a dissipative collision (A3).
     pub p: f64,
@@ -94,7 +103,22 @@ impl Params {
         check_min("W (width)", self.width, 1)?;
         check_min("L (length)", self.length, 1)?;
         check_min("bin", self.bin, 1)?;
-        check_range("rho", self.rho, 0.0, 6.0)?;
+        match self.boundary {
+            Boundary::Periodic => {
+                let (lo, hi) = RHO_RANGE;
+                if !(self.rho.is_finite() && self.rho > lo && self.rho < hi) {
+                    return Err(Error::new(
+                        ErrorKind::InvalidParameter,
+                        format!(
+                            "rho = {} is outside the allowed range ({lo}, {hi}) (open interval: moving particles per site, \
+                             6 channels; rho = 0 is an empty pipe, rho = 6 a full one that cannot move); choose rho in ({lo}, {hi})",
+                            self.rho
+                        ),
+                    ));
+                }
+            }
+            Boundary::Open { .. } => check_range("rho", self.rho, 0.0, 6.0)?,
+        }
         check_unit("p", self.p)?;
         check_unit("g", self.g)?;
         check_unit("b", self.b)?;

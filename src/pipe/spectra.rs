@@ -437,6 +437,7 @@ pub fn run_figure(
         wall_seconds: wall,
         site_updates: (runs as u64 * setup.steps() * p.sites() as u64) as f64,
         metrics,
+        missing_metrics: Default::default(),
         checks,
     };
     out.finish(&summary)?;

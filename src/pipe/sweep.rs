@@ -6,7 +6,9 @@
 //! A run that leaves the model's domain of validity (more rest particles than
 //! sites, or a stuck relocation walk: MODEL.md A4) is recorded as invalid
 //! instead of stopping the sweep, so a sweep over rho can report where the
-//! model ends.
+//! model ends. So is a run whose series cannot be measured (a
+//! [`ErrorKind::BadSeries`]: constant or too short, e.g. no particle moves):
+//! the point counts it as invalid, with the reason, and the sweep goes on.
 
 use super::spectra::{bin_spectrum, combine, SpectrumEnsemble, SpectrumRun, SpectrumSetup};
 use super::{Params, Rules};
@@ -105,7 +107,8 @@ pub fn is_validity_limit(kind: ErrorKind) -> bool {
 }
 
 /// One run of a sweep point: the spectrum, or `Invalid` when the model
-/// leaves its domain (other errors propagate).
+/// leaves its domain or the run's series cannot be measured
+/// ([`ErrorKind::BadSeries`]); other errors (bad input, i/o) propagate.
 pub fn sweep_run(
     setup: &SpectrumSetup,
     seed: u64,
@@ -114,6 +117,10 @@ pub fn sweep_run(
     match bin_spectrum(setup, seed, tick) {
         Ok(r) => Ok(RunOutcome::Valid(r)),
         Err(e) if is_validity_limit(e.kind) => Ok(RunOutcome::Invalid(e.message)),
+        Err(e) if e.kind == ErrorKind::BadSeries => Ok(RunOutcome::Invalid(format!(
+            "cannot be measured: {}",
+            e.message
+        ))),
         Err(e) => Err(e),
     }
 }
@@ -540,6 +547,23 @@ mod tests {
         assert!(r.alpha.is_nan() && r.ensemble.is_none());
         assert_eq!(r.row().len(), 1 + 8);
         assert_eq!(header(&["rho"]).len(), 9);
+    }
+
+    #[test]
+    fn a_run_that_cannot_be_measured_is_invalid_not_fatal() {
+        // one bin of a periodic pipe: its count is the conserved particle
+        // number, a constant series with no spectrum (BadSeries)
+        let params = Params {
+            width: 1,
+            length: 10,
+            bin: 10,
+            ..Params::default()
+        };
+        let setup = tier_setup(Tier::Quick, params, Rules::default());
+        match sweep_run(&setup, 1, &|_| {}).unwrap() {
+            RunOutcome::Invalid(why) => assert!(why.contains("cannot be measured"), "{why}"),
+            RunOutcome::Valid(r) => panic!("a constant series gave alpha = {}", r.alpha),
+        }
     }
 
     #[test]
