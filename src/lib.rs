@@ -60,6 +60,7 @@ pub mod hopper;
 pub mod lattice;
 pub mod pipe;
 pub mod plot;
+pub mod report;
 pub mod run;
 
 pub use error::{Error, ErrorKind, Result};

@@ -1,0 +1,96 @@
+//! The reproduction report (issue 17): run every figure binary at one tier
+//! and write `OUT/report/REPORT.md` and `OUT/report/index.html`, one row per
+//! check beside its published value, with thumbnails of every figure.
+//! Finished runs are resumed from `--out`, so a rerun only re-analyses.
+//!
+//! `cargo build --release --bins && target/release/report --tier quick`
+
+use clap::Parser;
+use granular_automata::report::{parse_extra, run, select, Options};
+use granular_automata::run::Tier;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+#[derive(Parser, Debug)]
+#[command(
+    about = "Run every figure binary at one tier and write OUT/report/REPORT.md and index.html"
+)]
+struct Args {
+    /// Tier passed to every figure: quick (minutes in all), standard, paper.
+    #[arg(long, value_enum, default_value_t = Tier::Quick)]
+    tier: Tier,
+    /// Comma-separated figures to run (default: every figure binary except
+    /// pipe-matrix, which runs only when named here).
+    #[arg(long)]
+    only: Option<String>,
+    /// Output folder of the figures; the report goes to OUT/report/.
+    #[arg(long, default_value = "results")]
+    out: PathBuf,
+    /// Base seed passed to every figure (default: each figure's own, 1).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Worker threads of every figure (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Extra arguments of one figure, BIN=ARGS, e.g. 'waves-fig8=--runs 32'
+    /// (repeatable; appended after the report's own).
+    #[arg(long, value_name = "BIN=ARGS")]
+    args_for: Vec<String>,
+}
+
+fn main() {
+    if let Err(e) = report() {
+        eprintln!("report: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn report() -> granular_automata::Result<()> {
+    let a = Args::parse();
+    let figures = select(a.only.as_deref())?;
+    let mut extra = BTreeMap::new();
+    for spec in &a.args_for {
+        let (bin, args) = parse_extra(spec, &figures)?;
+        extra.insert(bin, args);
+    }
+    let bin_dir = std::env::current_exe()
+        .ok()
+        .and_then(|p| p.parent().map(PathBuf::from))
+        .unwrap_or_else(|| PathBuf::from("."));
+    let opts = Options {
+        tier: a.tier,
+        figures,
+        out: a.out,
+        seed: a.seed,
+        threads: a.threads,
+        extra,
+        bin_dir,
+        command_line: std::env::args().collect::<Vec<_>>().join(" "),
+    };
+    let r = run(&opts)?;
+    let dir = opts.out.join("report");
+    println!(
+        "wrote {} and {}",
+        dir.join("REPORT.md").display(),
+        dir.join("index.html").display()
+    );
+    let failed: Vec<&str> = r
+        .figures
+        .iter()
+        .filter(|f| !f.run.ok)
+        .map(|f| f.run.binary.as_str())
+        .collect();
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(granular_automata::Error::new(
+            granular_automata::ErrorKind::Io,
+            format!(
+                "{} of {} figures failed: {} (listed in the report)",
+                failed.len(),
+                r.figures.len(),
+                failed.join(", ")
+            ),
+        ))
+    }
+}

@@ -1,0 +1,1207 @@
+//! The reproduction report (issue 17): run every figure binary at one tier
+//! (finished runs are resumed from `--out`, so a rerun only re-analyses),
+//! read each `DIR/<binary>/summary.json` and write `DIR/report/REPORT.md`,
+//! a self-contained `DIR/report/index.html` (no network, no JavaScript,
+//! relative links) and `DIR/report/report.json`.
+//!
+//! Every line of the Markdown and HTML that carries a wall time ends with
+//! [`TIMING_MARK`] (Markdown) or contains [`HTML_TIMING_MARK`], so two reports
+//! of the same finished runs compare equal once those lines are removed
+//! ([`without_timing`]).
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::run::{write_atomic, Tier};
+use serde::Serialize;
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::io::{BufRead, BufReader, Write as _};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+/// The crate's `Cargo.toml`, read at compile time: its `[[bin]]` entries
+/// are the figure binaries.
+const CARGO_TOML: &str = include_str!("../Cargo.toml");
+
+/// Binaries that are not figures (no `summary.json`): never run.
+const NOT_FIGURES: [&str; 4] = ["bench", "explore", "merge", "report"];
+
+/// Figures run only when named with `--only` (the rule-reading matrix:
+/// about half an hour of CPU at the quick tier).
+const ON_REQUEST: [&str; 1] = ["pipe-matrix"];
+
+/// Marker ending every Markdown line that carries a wall time.
+pub const TIMING_MARK: &str = "<!-- timing -->";
+/// Marker inside every HTML line that carries a wall time.
+pub const HTML_TIMING_MARK: &str = "data-timing";
+
+/// Characters of a rule reading shown in a table cell (the full reading is
+/// in the headline's list and the stamp).
+const RULES_CELL: usize = 40;
+
+/// Lines of stderr kept for a failed figure.
+const STDERR_TAIL: usize = 15;
+
+/// The heading of EXPERIMENTS.md the known discrepancies link to.
+const DISCREPANCY_HEADING: &str = "## Known discrepancies";
+
+/// What the report runs and where it writes.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Tier passed to every figure.
+    pub tier: Tier,
+    /// The figures to run (see [`select`]).
+    pub figures: Vec<String>,
+    /// The output folder of the figures; the report goes to `out/report/`.
+    pub out: PathBuf,
+    /// `--seed` passed to every figure, if given.
+    pub seed: Option<u64>,
+    /// `--threads` passed to every figure, if given.
+    pub threads: Option<usize>,
+    /// Extra arguments of single figures (`binary -> args`), appended last.
+    pub extra: BTreeMap<String, Vec<String>>,
+    /// The folder holding the figure binaries (that of the report's own
+    /// executable).
+    pub bin_dir: PathBuf,
+    /// The report's command line, as recorded in the stamp.
+    pub command_line: String,
+}
+
+/// Every `[[bin]]` name of Cargo.toml, in file order.
+pub fn all_binaries() -> Vec<&'static str> {
+    let mut names = vec![];
+    let mut in_bin = false;
+    for line in CARGO_TOML.lines().map(str::trim) {
+        if line.starts_with('[') {
+            in_bin = line == "[[bin]]";
+        } else if in_bin {
+            if let Some(v) = line.strip_prefix("name") {
+                if let Some(v) = v.trim_start().strip_prefix('=') {
+                    names.push(v.trim().trim_matches('"'));
+                }
+            }
+        }
+    }
+    names
+}
+
+/// The figures a report runs by default: every `[[bin]]` except the tools
+/// (bench, explore, merge, report) and the on-request pipe-matrix.
+pub fn default_figures() -> Vec<&'static str> {
+    all_binaries()
+        .into_iter()
+        .filter(|b| !NOT_FIGURES.contains(b) && !ON_REQUEST.contains(b))
+        .collect()
+}
+
+/// The figures to run for `--only` (comma-separated names; `None`: the
+/// defaults), in Cargo.toml order. An unknown or non-figure name, or an
+/// empty list, is an [`ErrorKind::InvalidParameter`] error listing the
+/// allowed names.
+pub fn select(only: Option<&str>) -> Result<Vec<String>> {
+    let allowed: Vec<&str> = all_binaries()
+        .into_iter()
+        .filter(|b| !NOT_FIGURES.contains(b))
+        .collect();
+    let Some(only) = only else {
+        return Ok(default_figures().into_iter().map(String::from).collect());
+    };
+    let names: Vec<&str> = only
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .collect();
+    let unknown: Vec<&str> = names
+        .iter()
+        .copied()
+        .filter(|n| !allowed.contains(n))
+        .collect();
+    if names.is_empty() || !unknown.is_empty() {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!(
+                "--only {only:?}: unknown figure(s) {unknown:?}; choose a comma-separated list of {}",
+                allowed.join(", ")
+            ),
+        ));
+    }
+    Ok(allowed
+        .into_iter()
+        .filter(|b| names.contains(b))
+        .map(String::from)
+        .collect())
+}
+
+/// Parse `--args-for BIN=ARGS` (ARGS split at whitespace) for one of the
+/// selected `figures`.
+pub fn parse_extra(spec: &str, figures: &[String]) -> Result<(String, Vec<String>)> {
+    let bad = |why: &str| {
+        Error::new(
+            ErrorKind::InvalidParameter,
+            format!("--args-for {spec:?}: {why}; write BIN=ARGS, e.g. fig2=\"--runs 8\", with BIN one of {}", figures.join(", ")),
+        )
+    };
+    let (bin, args) = spec.split_once('=').ok_or_else(|| bad("no '='"))?;
+    if !figures.iter().any(|f| f == bin) {
+        return Err(bad("not a figure of this report"));
+    }
+    Ok((
+        bin.to_string(),
+        args.split_whitespace().map(String::from).collect(),
+    ))
+}
+
+/// How one figure binary ended.
+#[derive(Debug, Clone, Serialize)]
+pub struct FigureRun {
+    /// Binary name.
+    pub binary: String,
+    /// Whether it exited with status 0.
+    pub ok: bool,
+    /// Why not ("exit status 2", "interrupted by signal 9", "not found ...").
+    pub failure: Option<String>,
+    /// The last lines of its stderr (failed figures only).
+    pub stderr_tail: Vec<String>,
+    /// Wall-clock seconds of the subprocess.
+    pub wall_seconds: f64,
+}
+
+/// The arguments passed to figure `binary`.
+pub fn figure_args(opts: &Options, binary: &str) -> Vec<String> {
+    let mut a = vec![
+        "--tier".to_string(),
+        opts.tier.name().to_string(),
+        "--out".to_string(),
+        opts.out.display().to_string(),
+    ];
+    if let Some(s) = opts.seed {
+        a.extend(["--seed".to_string(), s.to_string()]);
+    }
+    if let Some(t) = opts.threads {
+        a.extend(["--threads".to_string(), t.to_string()]);
+    }
+    if let Some(x) = opts.extra.get(binary) {
+        a.extend(x.iter().cloned());
+    }
+    a
+}
+
+/// Run figure `binary` from `opts.bin_dir`: stdout passes through, stderr
+/// is forwarded line by line and its tail kept. Never fails: a missing
+/// binary, a non-zero exit or a signal is recorded in the result.
+pub fn run_figure(opts: &Options, binary: &str) -> FigureRun {
+    let exe = opts
+        .bin_dir
+        .join(format!("{binary}{}", std::env::consts::EXE_SUFFIX));
+    let start = Instant::now();
+    let fail = |failure: String, tail: Vec<String>| FigureRun {
+        binary: binary.to_string(),
+        ok: false,
+        failure: Some(failure),
+        stderr_tail: tail,
+        wall_seconds: start.elapsed().as_secs_f64(),
+    };
+    let child = Command::new(&exe)
+        .args(figure_args(opts, binary))
+        .stdin(Stdio::null())
+        .stdout(Stdio::inherit())
+        .stderr(Stdio::piped())
+        .spawn();
+    let mut child = match child {
+        Ok(c) => c,
+        Err(e) => {
+            return fail(
+                format!(
+                    "cannot start {}: {e}; build the figures first (cargo build --release --bins)",
+                    exe.display()
+                ),
+                vec![],
+            )
+        }
+    };
+    let mut tail: Vec<String> = vec![];
+    if let Some(err) = child.stderr.take() {
+        let mut stderr = std::io::stderr();
+        for line in BufReader::new(err).lines() {
+            let Ok(line) = line else { break };
+            let _ = writeln!(stderr, "{line}");
+            tail.push(line);
+            if tail.len() > STDERR_TAIL {
+                tail.remove(0);
+            }
+        }
+    }
+    match child.wait() {
+        Ok(s) if s.success() => FigureRun {
+            binary: binary.to_string(),
+            ok: true,
+            failure: None,
+            stderr_tail: vec![],
+            wall_seconds: start.elapsed().as_secs_f64(),
+        },
+        Ok(s) => match s.code() {
+            Some(c) => fail(format!("exit status {c}"), tail),
+            None => fail(format!("interrupted ({s})"), tail),
+        },
+        Err(e) => fail(format!("cannot wait for {binary}: {e}"), tail),
+    }
+}
+
+/// One check of one figure, as read from its summary.json (missing fields
+/// of the older check format tolerated: see [`Row::from_json`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct Row {
+    /// Binary name.
+    pub binary: String,
+    /// Paper, e.g. `PH94`.
+    pub paper: String,
+    /// Figure within the paper, e.g. `Fig. 2`.
+    pub figure: String,
+    /// Check name.
+    pub name: String,
+    /// published | pinned | identity | unstated.
+    pub kind: String,
+    /// reproduced | not-reproduced | undecided.
+    pub verdict: String,
+    /// Measured value (None when null / not finite).
+    pub measured: Option<f64>,
+    /// Its standard error.
+    pub error: Option<f64>,
+    /// Number of runs, when stated.
+    pub runs: Option<u64>,
+    /// Published value, when there is one.
+    pub published: Option<f64>,
+    /// Margin |measured - published| allowed, when stated.
+    pub tolerance: Option<f64>,
+    /// Where the published claim is (e.g. `PH95 III B`), when stated.
+    pub source: String,
+    /// The check's note, in full.
+    pub note: String,
+    /// Rule reading of the figure.
+    pub rules: String,
+    /// Site updates of the figure (all its runs).
+    pub site_updates: Option<f64>,
+}
+
+impl Row {
+    /// The row of check `c` of figure `binary` whose summary is `s`.
+    /// Missing `kind` reads as `unstated`; a missing `verdict` is derived
+    /// from `pass` (true: reproduced, false: not-reproduced).
+    pub fn from_json(binary: &str, s: &Value, c: &Value) -> Row {
+        let (paper, figure) = split_paper(s["paper"].as_str().unwrap_or(binary));
+        let text = |v: &Value| v.as_str().unwrap_or("").to_string();
+        let verdict = match c["verdict"].as_str() {
+            Some(v) => v.to_string(),
+            None => match c["pass"].as_bool() {
+                Some(true) => "reproduced".into(),
+                Some(false) => "not-reproduced".into(),
+                None => "undecided".into(),
+            },
+        };
+        Row {
+            binary: binary.to_string(),
+            paper,
+            figure,
+            name: text(&c["name"]),
+            kind: c["kind"].as_str().unwrap_or("unstated").to_string(),
+            verdict,
+            measured: finite(&c["measured"]),
+            error: finite(&c["error"]),
+            runs: c["runs"].as_u64(),
+            published: finite(&c["published"]),
+            tolerance: finite(&c["tolerance"]),
+            source: text(&c["source"]),
+            note: text(&c["note"]),
+            rules: text(&s["rules"]),
+            site_updates: finite(&s["site_updates"]),
+        }
+    }
+
+    /// Whether this is a published claim: kind `published`, or (older
+    /// format, kind unstated) a check against a published number.
+    pub fn is_published_claim(&self) -> bool {
+        self.kind == "published" || (self.kind == "unstated" && self.published.is_some())
+    }
+}
+
+fn finite(v: &Value) -> Option<f64> {
+    v.as_f64().filter(|x| x.is_finite())
+}
+
+/// `PH94 Fig. 2` -> (`PH94`, `Fig. 2`).
+fn split_paper(p: &str) -> (String, String) {
+    match p.split_once(' ') {
+        Some((a, b)) => (a.to_string(), b.to_string()),
+        None => (p.to_string(), String::new()),
+    }
+}
+
+/// What the report knows of one figure.
+#[derive(Debug, Clone, Serialize)]
+pub struct FigureReport {
+    /// How its binary ended.
+    pub run: FigureRun,
+    /// Paper and figure from its summary.
+    pub paper: String,
+    /// Tier of its summary.
+    pub tier: String,
+    /// Rule reading.
+    pub rules: String,
+    /// Seeds of its runs.
+    pub seeds: Vec<u64>,
+    /// wall_seconds of its summary (this invocation's analysis and runs).
+    pub summary_wall_seconds: Option<f64>,
+    /// Site updates of all its runs.
+    pub site_updates: Option<f64>,
+    /// PNG files of its folder, sorted.
+    pub pngs: Vec<String>,
+    /// CSV files of its folder, sorted.
+    pub csvs: Vec<String>,
+    /// Why its summary could not be read, if so.
+    pub summary_problem: Option<String>,
+}
+
+/// The whole report.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    /// Tier of the report.
+    pub tier: String,
+    /// One entry per figure run.
+    pub figures: Vec<FigureReport>,
+    /// One row per check of every figure that succeeded.
+    pub rows: Vec<Row>,
+    /// Reproducibility stamp.
+    pub stamp: Stamp,
+    /// Link from `DIR/report/` to the known-discrepancies section of
+    /// EXPERIMENTS.md.
+    pub discrepancy_link: String,
+}
+
+/// What identifies a report's computation.
+#[derive(Debug, Clone, Serialize)]
+pub struct Stamp {
+    /// Crate version.
+    pub version: String,
+    /// `git rev-parse HEAD` of the source tree ("unknown" outside git),
+    /// with " (modified)" when the tree has uncommitted changes.
+    pub commit: String,
+    /// The report's command line.
+    pub command_line: String,
+    /// The `--seed` given ("default" when not).
+    pub seed: String,
+    /// Cores available.
+    pub cores: usize,
+    /// `--threads` given ("default" when not).
+    pub threads: String,
+    /// Wall-clock seconds of the whole report.
+    pub wall_seconds: f64,
+}
+
+/// The source commit: `git rev-parse HEAD` in the crate's folder.
+pub fn git_commit() -> String {
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let out = Command::new("git")
+        .args(["-C", dir, "rev-parse", "HEAD"])
+        .stderr(Stdio::null())
+        .output();
+    let Ok(out) =
+        out.as_ref()
+            .map_err(|_| ())
+            .and_then(|o| if o.status.success() { Ok(o) } else { Err(()) })
+    else {
+        return "unknown".into();
+    };
+    let head = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    let dirty = Command::new("git")
+        .args(["-C", dir, "status", "--porcelain", "--untracked-files=no"])
+        .stderr(Stdio::null())
+        .output()
+        .map(|o| !o.stdout.is_empty())
+        .unwrap_or(false);
+    if dirty {
+        format!("{head} (modified)")
+    } else {
+        head
+    }
+}
+
+/// Read `out/<binary>/` after its run: the figure's summary fields, its
+/// rows (none when the run failed) and its files.
+pub fn read_figure(out: &Path, run: FigureRun) -> (FigureReport, Vec<Row>) {
+    let dir = out.join(&run.binary);
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .filter(|e| e.path().is_file())
+                .filter_map(|e| e.file_name().into_string().ok())
+                .collect()
+        })
+        .unwrap_or_default();
+    files.sort();
+    let with =
+        |ext: &str| -> Vec<String> { files.iter().filter(|f| f.ends_with(ext)).cloned().collect() };
+    let mut fr = FigureReport {
+        paper: run.binary.clone(),
+        tier: String::new(),
+        rules: String::new(),
+        seeds: vec![],
+        summary_wall_seconds: None,
+        site_updates: None,
+        pngs: with(".png"),
+        csvs: with(".csv"),
+        summary_problem: None,
+        run,
+    };
+    let path = dir.join("summary.json");
+    if !fr.run.ok {
+        if path.exists() {
+            fr.summary_problem =
+                Some("a summary.json of an earlier run exists; it is not used".into());
+        }
+        return (fr, vec![]);
+    }
+    let s: Value = match std::fs::read_to_string(&path)
+        .map_err(|e| e.to_string())
+        .and_then(|t| serde_json::from_str(&t).map_err(|e| e.to_string()))
+    {
+        Ok(s) => s,
+        Err(e) => {
+            fr.summary_problem = Some(format!("cannot read {}: {e}", path.display()));
+            return (fr, vec![]);
+        }
+    };
+    fr.paper = s["paper"].as_str().unwrap_or(&fr.run.binary).to_string();
+    fr.tier = s["tier"].as_str().unwrap_or("").to_string();
+    fr.rules = s["rules"].as_str().unwrap_or("").to_string();
+    fr.seeds = s["seeds"]
+        .as_array()
+        .map(|a| a.iter().filter_map(Value::as_u64).collect())
+        .unwrap_or_default();
+    fr.summary_wall_seconds = finite(&s["wall_seconds"]);
+    fr.site_updates = finite(&s["site_updates"]);
+    let rows = s["checks"]
+        .as_array()
+        .map(|cs| {
+            cs.iter()
+                .map(|c| Row::from_json(&fr.run.binary, &s, c))
+                .collect()
+        })
+        .unwrap_or_default();
+    (fr, rows)
+}
+
+/// The GitHub-style anchor of a Markdown heading.
+pub fn slug(heading: &str) -> String {
+    heading
+        .trim_start_matches('#')
+        .trim()
+        .to_lowercase()
+        .chars()
+        .filter_map(|c| match c {
+            ' ' => Some('-'),
+            c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Relative path from folder `from` to file `to` (both made absolute).
+fn relative(from: &Path, to: &Path) -> Option<String> {
+    let from = std::fs::canonicalize(from).ok()?;
+    let to = std::fs::canonicalize(to).ok()?;
+    let f: Vec<_> = from.components().collect();
+    let t: Vec<_> = to.components().collect();
+    let common = f.iter().zip(&t).take_while(|(a, b)| a == b).count();
+    let mut parts: Vec<String> = vec!["..".into(); f.len() - common];
+    parts.extend(
+        t[common..]
+            .iter()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+    );
+    Some(parts.join("/"))
+}
+
+/// Link from `report_dir` to the known-discrepancies section of the
+/// crate's EXPERIMENTS.md (relative when the file is found).
+fn discrepancy_link(report_dir: &Path) -> String {
+    let exp = Path::new(env!("CARGO_MANIFEST_DIR")).join("EXPERIMENTS.md");
+    let heading = std::fs::read_to_string(&exp)
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with(DISCREPANCY_HEADING))
+                .map(String::from)
+        })
+        .unwrap_or_else(|| DISCREPANCY_HEADING.to_string());
+    let file = relative(report_dir, &exp).unwrap_or_else(|| "EXPERIMENTS.md".into());
+    format!("{file}#{}", slug(&heading))
+}
+
+/// Run the figures of `opts` one after the other and write the report.
+/// Returns the report (its `figures` say which failed).
+pub fn run(opts: &Options) -> Result<Report> {
+    let start = Instant::now();
+    let n = opts.figures.len();
+    let mut runs = vec![];
+    for (i, b) in opts.figures.iter().enumerate() {
+        eprintln!(
+            "report: [{}/{n}] {b} {}",
+            i + 1,
+            figure_args(opts, b).join(" ")
+        );
+        let r = run_figure(opts, b);
+        match &r.failure {
+            None => eprintln!("report: {b} done in {:.1} s", r.wall_seconds),
+            Some(f) => eprintln!("report: {b} FAILED ({f}); continuing"),
+        }
+        runs.push(r);
+    }
+    let mut report = collect(opts, runs);
+    report.stamp.wall_seconds = start.elapsed().as_secs_f64();
+    write(&opts.out, &report)?;
+    Ok(report)
+}
+
+/// Assemble the report from finished `runs` (reads their summaries).
+pub fn collect(opts: &Options, runs: Vec<FigureRun>) -> Report {
+    let mut figures = vec![];
+    let mut rows = vec![];
+    for r in runs {
+        let (f, rs) = read_figure(&opts.out, r);
+        figures.push(f);
+        rows.extend(rs);
+    }
+    let report_dir = opts.out.join("report");
+    let _ = std::fs::create_dir_all(&report_dir);
+    Report {
+        tier: opts.tier.name().to_string(),
+        figures,
+        rows,
+        stamp: Stamp {
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            commit: git_commit(),
+            command_line: opts.command_line.clone(),
+            seed: opts
+                .seed
+                .map_or("default of each figure (1)".into(), |s| s.to_string()),
+            cores: crate::run::threads(),
+            threads: opts
+                .threads
+                .map_or("default (all cores)".into(), |t| t.to_string()),
+            wall_seconds: 0.0,
+        },
+        discrepancy_link: discrepancy_link(&report_dir),
+    }
+}
+
+/// Write `out/report/{REPORT.md, index.html, report.json}`.
+pub fn write(out: &Path, report: &Report) -> Result<()> {
+    let dir = out.join("report");
+    std::fs::create_dir_all(&dir).map_err(|e| {
+        Error::new(
+            ErrorKind::Io,
+            format!("cannot create {}: {e}; choose another --out", dir.display()),
+        )
+    })?;
+    write_atomic(&dir.join("REPORT.md"), markdown(report).as_bytes())?;
+    write_atomic(&dir.join("index.html"), html(report).as_bytes())?;
+    let json = serde_json::to_string_pretty(report)
+        .map_err(|e| Error::new(ErrorKind::Io, format!("cannot serialise the report: {e}")))?;
+    write_atomic(&dir.join("report.json"), json.as_bytes())?;
+    Ok(())
+}
+
+/// `text` without the lines that carry wall times (for comparing reports).
+pub fn without_timing(text: &str) -> String {
+    text.lines()
+        .filter(|l| !l.contains(TIMING_MARK) && !l.contains(HTML_TIMING_MARK))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// A number with about four significant digits ("n/a" when absent).
+pub fn num(x: Option<f64>) -> String {
+    match x {
+        None => "n/a".into(),
+        Some(x) => sig(x, 4),
+    }
+}
+
+fn sig(x: f64, digits: i32) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    let mag = x.abs().log10().floor() as i32;
+    if !(-3..6).contains(&mag) {
+        return format!("{:.*e}", (digits - 1) as usize, x);
+    }
+    let decimals = (digits - 1 - mag).max(0) as usize;
+    format!("{x:.decimals$}")
+}
+
+/// `measured ± SE` (the SE with two significant digits).
+fn measured(r: &Row) -> String {
+    match (r.measured, r.error) {
+        (Some(m), Some(e)) if e > 0.0 => format!("{} ± {}", sig(m, 4), sig(e, 2)),
+        (m, _) => num(m),
+    }
+}
+
+/// `published (margin t)`.
+fn published(r: &Row) -> String {
+    match (r.published, r.tolerance) {
+        (None, _) => "—".into(),
+        (Some(p), Some(t)) => format!("{} (margin {})", sig(p, 4), sig(t, 2)),
+        (Some(p), None) => sig(p, 4),
+    }
+}
+
+/// The note cut to about `max` characters at a word boundary.
+pub fn shorten(note: &str, max: usize) -> String {
+    let first = note.split("; NOT REPRODUCED").next().unwrap_or(note).trim();
+    if first.chars().count() <= max {
+        return first.to_string();
+    }
+    let cut: String = first.chars().take(max).collect();
+    let cut = match cut.rfind(' ') {
+        Some(i) if i > max / 2 => &cut[..i],
+        _ => &cut[..],
+    };
+    format!("{}…", cut.trim_end_matches([',', ';', ':', ' ']))
+}
+
+/// The claim cell: shortened note, with the source when stated.
+fn claim(r: &Row) -> String {
+    let s = shorten(&r.note, 90);
+    if r.source.is_empty() {
+        s
+    } else {
+        format!("{s} [{}]", r.source)
+    }
+}
+
+/// Site updates as `6.83e9`.
+fn updates(x: Option<f64>) -> String {
+    match x {
+        Some(x) if x > 0.0 => format!("{x:.2e}"),
+        Some(_) => "0".into(),
+        None => "n/a".into(),
+    }
+}
+
+/// Counts of the report's rows.
+struct Counts {
+    published: usize,
+    published_reproduced: usize,
+    verdicts: BTreeMap<String, usize>,
+    kinds: BTreeMap<String, usize>,
+    readings: BTreeMap<String, usize>,
+}
+
+fn counts(r: &Report) -> Counts {
+    let mut c = Counts {
+        published: 0,
+        published_reproduced: 0,
+        verdicts: BTreeMap::new(),
+        kinds: BTreeMap::new(),
+        readings: BTreeMap::new(),
+    };
+    for row in &r.rows {
+        *c.verdicts.entry(row.verdict.clone()).or_default() += 1;
+        *c.kinds.entry(row.kind.clone()).or_default() += 1;
+        if row.is_published_claim() {
+            c.published += 1;
+            if row.verdict == "reproduced" {
+                c.published_reproduced += 1;
+            }
+        }
+    }
+    for f in r.figures.iter().filter(|f| !f.rules.is_empty()) {
+        *c.readings.entry(f.rules.clone()).or_default() += 1;
+    }
+    c
+}
+
+fn list(m: &BTreeMap<String, usize>) -> String {
+    m.iter()
+        .map(|(k, v)| format!("{v} {k}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn headline(r: &Report) -> String {
+    let c = counts(r);
+    let readings = c
+        .readings
+        .iter()
+        .map(|(k, v)| {
+            let k = shorten(k, 70);
+            format!("`{k}` ({v} figure{})", if *v == 1 { "" } else { "s" })
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let failed = r.figures.iter().filter(|f| !f.run.ok).count();
+    let mut s = format!(
+        "{} of {} published claims reproduced at the {} tier ({} figure{} run{}), default rule readings: {}.",
+        c.published_reproduced,
+        c.published,
+        r.tier,
+        r.figures.len(),
+        if r.figures.len() == 1 { "" } else { "s" },
+        if failed > 0 {
+            format!(", {failed} FAILED")
+        } else {
+            String::new()
+        },
+        if readings.is_empty() { "none".into() } else { readings }
+    );
+    if c.kinds.contains_key("unstated") {
+        s.push_str(" Checks of the older format state no kind: those with a published number count as published claims.");
+    }
+    s
+}
+
+fn discrepancies(r: &Report) -> Vec<&Row> {
+    r.rows
+        .iter()
+        .filter(|x| x.is_published_claim() && x.verdict != "reproduced")
+        .collect()
+}
+
+fn md_cell(s: &str) -> String {
+    s.replace('|', "\\|").replace('\n', " ")
+}
+
+/// The report as Markdown.
+pub fn markdown(r: &Report) -> String {
+    let mut m = String::new();
+    let c = counts(r);
+    let _ = writeln!(
+        m,
+        "# Reproduction report: granular-automata {}, {} tier\n",
+        r.stamp.version, r.tier
+    );
+    let _ = writeln!(m, "{}\n", headline(r));
+    let _ = writeln!(m, "- checks by verdict: {}", list(&c.verdicts));
+    let _ = writeln!(m, "- checks by kind: {}", list(&c.kinds));
+    let _ = writeln!(m, "- figures: {}\n", r.figures.len());
+    let failed: Vec<_> = r.figures.iter().filter(|f| !f.run.ok).collect();
+    if !failed.is_empty() {
+        let _ = writeln!(m, "## Failed figures\n");
+        for f in failed {
+            let _ = writeln!(
+                m,
+                "- **{}**: {}{}",
+                f.run.binary,
+                f.run.failure.as_deref().unwrap_or(""),
+                f.summary_problem
+                    .as_ref()
+                    .map_or(String::new(), |p| format!(" ({p})"))
+            );
+            if !f.run.stderr_tail.is_empty() {
+                let _ = writeln!(m, "\n  ```text");
+                for l in &f.run.stderr_tail {
+                    let _ = writeln!(m, "  {l}");
+                }
+                let _ = writeln!(m, "  ```");
+            }
+        }
+        m.push('\n');
+    }
+    let d = discrepancies(r);
+    let _ = writeln!(m, "## Known discrepancies ({})\n", d.len());
+    let _ = writeln!(
+        m,
+        "Published claims not reproduced (or undecided) at this tier; their explanation is in [EXPERIMENTS.md]({}).\n",
+        r.discrepancy_link
+    );
+    for x in &d {
+        let _ = writeln!(
+            m,
+            "- {} {} `{}` ({}): published {}, measured {}: {}",
+            x.paper,
+            x.figure,
+            x.name,
+            x.verdict,
+            published(x),
+            measured(x),
+            md_cell(&x.note)
+        );
+    }
+    let _ = writeln!(m, "\n## Checks\n");
+    let _ = writeln!(m, "| paper | figure | check: claim | published | measured ± SE | verdict | kind | rule reading | site updates |");
+    let _ = writeln!(m, "|---|---|---|---|---|---|---|---|---|");
+    for x in &r.rows {
+        let _ = writeln!(
+            m,
+            "| {} | {} (`{}`) | `{}`: {} | {} | {} | {} | {} | `{}` | {} |",
+            x.paper,
+            x.figure,
+            x.binary,
+            x.name,
+            md_cell(&claim(x)),
+            published(x),
+            measured(x),
+            x.verdict,
+            x.kind,
+            shorten(&x.rules, RULES_CELL),
+            updates(x.site_updates)
+        );
+    }
+    let _ = writeln!(m, "\n## Figures and cost\n");
+    let _ = writeln!(m, "Wall times: `process` is the figure's subprocess, `summary` its own summary.json (a figure that resumed saved runs reports only the analysis); site updates count all its runs.\n");
+    let _ = writeln!(
+        m,
+        "| figure | paper | status | runs (seeds) | site updates | wall time |"
+    );
+    let _ = writeln!(m, "|---|---|---|---|---|---|");
+    for f in &r.figures {
+        let _ = writeln!(
+            m,
+            "| `{}` | {} | {} | {} | {} | process {:.1} s, summary {} s {TIMING_MARK} |",
+            f.run.binary,
+            f.paper,
+            status(f),
+            f.seeds.len(),
+            updates(f.site_updates),
+            f.run.wall_seconds,
+            f.summary_wall_seconds
+                .map_or("n/a".into(), |w| format!("{w:.1}"))
+        );
+    }
+    let _ = writeln!(m, "\n## Pictures and data\n");
+    for f in r
+        .figures
+        .iter()
+        .filter(|f| !f.pngs.is_empty() || !f.csvs.is_empty())
+    {
+        let _ = writeln!(m, "### {} (`{}`)\n", f.paper, f.run.binary);
+        for p in &f.pngs {
+            let _ = writeln!(m, "[![{p}](../{0}/{p})](../{0}/{p})", f.run.binary);
+        }
+        let csv: Vec<String> = f
+            .csvs
+            .iter()
+            .map(|c| format!("[{c}](../{}/{c})", f.run.binary))
+            .collect();
+        if !csv.is_empty() {
+            let _ = writeln!(m, "\nData: {}", csv.join(", "));
+        }
+        m.push('\n');
+    }
+    let _ = writeln!(m, "## Reproducibility stamp\n");
+    for (k, v) in stamp_lines(r) {
+        let _ = writeln!(m, "- {k}: {}", v.replace('`', "'"));
+    }
+    let _ = writeln!(
+        m,
+        "- report wall time: {:.1} s {TIMING_MARK}",
+        r.stamp.wall_seconds
+    );
+    m
+}
+
+fn status(f: &FigureReport) -> String {
+    match (&f.run.failure, &f.summary_problem) {
+        (Some(x), _) => format!("FAILED: {x}"),
+        (None, Some(p)) => format!("no summary: {p}"),
+        (None, None) => "ok".into(),
+    }
+}
+
+fn stamp_lines(r: &Report) -> Vec<(&'static str, String)> {
+    let s = &r.stamp;
+    let mut v = vec![
+        ("crate version", s.version.clone()),
+        ("git commit", s.commit.clone()),
+        ("command", s.command_line.clone()),
+        ("tier", r.tier.clone()),
+        ("--seed", s.seed.clone()),
+        ("--threads", s.threads.clone()),
+        ("cores", s.cores.to_string()),
+    ];
+    for (k, n) in counts(r).readings {
+        v.push(("rule reading", format!("{k} ({n} figures)")));
+    }
+    for f in r.figures.iter().filter(|f| !f.seeds.is_empty()) {
+        let seeds: Vec<String> = f.seeds.iter().map(u64::to_string).collect();
+        v.push(("seeds", format!("{}: {}", f.run.binary, seeds.join(" "))));
+    }
+    v
+}
+
+/// HTML-escape text.
+pub fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+const CSS: &str = "body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:1400px;padding:0 1em;color:#222;line-height:1.4}
+h1{font-size:1.5em}h2{font-size:1.2em;margin-top:1.6em;border-bottom:1px solid #ccc}
+.headline{font-size:1.15em;background:#f4f6f8;padding:.6em .9em;border-left:4px solid #357}
+table{border-collapse:collapse;width:100%;font-size:.88em}
+th,td{border:1px solid #ddd;padding:.3em .45em;vertical-align:top;text-align:left;overflow-wrap:break-word}
+th{background:#eef1f4}
+td.num{white-space:nowrap;font-variant-numeric:tabular-nums}
+.reproduced{background:#dff3e0}.not-reproduced{background:#fbe0e0}.undecided{background:#fff3cd}
+.v{font-weight:600;white-space:nowrap}
+code{font-size:.92em}
+.grid{display:grid;grid-template-columns:repeat(auto-fill,minmax(280px,1fr));gap:1em}
+.card{border:1px solid #ddd;padding:.5em;border-radius:4px}
+.card img{width:100%;height:220px;object-fit:contain;border:1px solid #eee;margin:.2em 0}
+.card h3{font-size:1em;margin:.2em 0}
+pre{background:#f6f6f6;padding:.5em;overflow-x:auto;font-size:.85em}
+.small{font-size:.85em;color:#555}";
+
+/// The report as one self-contained HTML page (inline CSS, no scripts,
+/// relative links to the figures' PNGs and CSVs).
+pub fn html(r: &Report) -> String {
+    let c = counts(r);
+    let mut h = String::new();
+    let title = format!(
+        "Reproduction report: granular-automata {}, {} tier",
+        r.stamp.version, r.tier
+    );
+    let _ = writeln!(h, "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n<style>\n{CSS}\n</style>\n</head>\n<body>", esc(&title));
+    let _ = writeln!(h, "<h1>{}</h1>", esc(&title));
+    let head = esc(&headline(r));
+    let _ = writeln!(h, "<p class=\"headline\">{}</p>", code_spans(&head));
+    let _ = writeln!(
+        h,
+        "<p>Checks by verdict: {}. By kind: {}.</p>",
+        esc(&list(&c.verdicts)),
+        esc(&list(&c.kinds))
+    );
+    let failed: Vec<_> = r.figures.iter().filter(|f| !f.run.ok).collect();
+    if !failed.is_empty() {
+        let _ = writeln!(h, "<h2>Failed figures</h2>");
+        for f in failed {
+            let _ = writeln!(
+                h,
+                "<p class=\"not-reproduced\"><b>{}</b>: {}{}</p>",
+                esc(&f.run.binary),
+                esc(f.run.failure.as_deref().unwrap_or("")),
+                f.summary_problem
+                    .as_ref()
+                    .map_or(String::new(), |p| format!(" ({})", esc(p)))
+            );
+            if !f.run.stderr_tail.is_empty() {
+                let _ = writeln!(h, "<pre>{}</pre>", esc(&f.run.stderr_tail.join("\n")));
+            }
+        }
+    }
+    let d = discrepancies(r);
+    let _ = writeln!(h, "<h2>Known discrepancies ({})</h2>", d.len());
+    let _ = writeln!(h, "<p>Published claims not reproduced (or undecided) at this tier; their explanation is in <a href=\"{}\">EXPERIMENTS.md, Known discrepancies</a>.</p>\n<ul>", esc(&r.discrepancy_link));
+    for x in &d {
+        let _ = writeln!(
+            h,
+            "<li>{} {} <code>{}</code> (<span class=\"{}\">{}</span>): published {}, measured {}: {}</li>",
+            esc(&x.paper),
+            esc(&x.figure),
+            esc(&x.name),
+            esc(&x.verdict),
+            esc(&x.verdict),
+            esc(&published(x)),
+            esc(&measured(x)),
+            esc(&x.note)
+        );
+    }
+    let _ = writeln!(h, "</ul>\n<h2>Checks</h2>");
+    let _ = writeln!(h, "<table>\n<thead><tr><th>paper</th><th>figure</th><th>check: claim</th><th>published (margin)</th><th>measured ± SE</th><th>verdict</th><th>kind</th><th>rule reading</th><th>site updates</th></tr></thead>\n<tbody>");
+    for x in &r.rows {
+        let _ = writeln!(
+            h,
+            "<tr class=\"{v}\"><td>{}</td><td>{} <a href=\"../{b}/\"><code>{b}</code></a></td><td title=\"{}\"><code>{}</code>: {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"v\">{v}</td><td>{}</td><td title=\"{}\"><code>{}</code></td><td class=\"num\">{}</td></tr>",
+            esc(&x.paper),
+            esc(&x.figure),
+            esc(&x.note),
+            esc(&x.name),
+            esc(&claim(x)),
+            esc(&published(x)),
+            esc(&measured(x)),
+            esc(&x.kind),
+            esc(&x.rules),
+            esc(&shorten(&x.rules, RULES_CELL)),
+            updates(x.site_updates),
+            v = esc(&x.verdict),
+            b = esc(&x.binary),
+        );
+    }
+    let _ = writeln!(h, "</tbody>\n</table>\n<p class=\"small\">Hover a claim for the check's full note.</p>\n<h2>Figures and cost</h2>");
+    let _ = writeln!(h, "<p class=\"small\">Wall times: <i>process</i> is the figure's subprocess, <i>summary</i> its own summary.json (a figure that resumed saved runs reports only the analysis); site updates count all its runs.</p>");
+    let _ = writeln!(h, "<table>\n<thead><tr><th>figure</th><th>paper</th><th>status</th><th>runs</th><th>site updates</th><th>wall time</th></tr></thead>\n<tbody>");
+    for f in &r.figures {
+        let _ = writeln!(
+            h,
+            "<tr {HTML_TIMING_MARK} class=\"{}\"><td><code>{}</code></td><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">process {:.1} s, summary {} s</td></tr>",
+            if f.run.ok { "" } else { "not-reproduced" },
+            esc(&f.run.binary),
+            esc(&f.paper),
+            esc(&status(f)),
+            f.seeds.len(),
+            updates(f.site_updates),
+            f.run.wall_seconds,
+            f.summary_wall_seconds.map_or("n/a".into(), |w| format!("{w:.1}"))
+        );
+    }
+    let _ = writeln!(
+        h,
+        "</tbody>\n</table>\n<h2>Pictures and data</h2>\n<div class=\"grid\">"
+    );
+    for f in r
+        .figures
+        .iter()
+        .filter(|f| !f.pngs.is_empty() || !f.csvs.is_empty())
+    {
+        let b = esc(&f.run.binary);
+        let csv: Vec<String> = f
+            .csvs
+            .iter()
+            .map(|c| format!("<a href=\"../{b}/{0}\">{0}</a>", esc(c)))
+            .collect();
+        let data = if csv.is_empty() {
+            String::new()
+        } else {
+            format!("<br>Data: {}", csv.join(", "))
+        };
+        let pngs: Vec<Option<&String>> = if f.pngs.is_empty() {
+            vec![None]
+        } else {
+            f.pngs.iter().map(Some).collect()
+        };
+        for p in pngs {
+            let _ = write!(
+                h,
+                "<div class=\"card\"><h3>{} (<code>{b}</code>)</h3>",
+                esc(&f.paper)
+            );
+            if let Some(p) = p {
+                let p = esc(p);
+                let _ = write!(
+                    h,
+                    "<a href=\"../{b}/{p}\"><img src=\"../{b}/{p}\" alt=\"{p}\" title=\"{p}\" loading=\"lazy\"></a><p class=\"small\"><a href=\"../{b}/{p}\">{p}</a>{data}</p>"
+                );
+            } else {
+                let _ = write!(h, "<p class=\"small\">{}</p>", &data[4..]);
+            }
+            let _ = writeln!(h, "</div>");
+        }
+    }
+    let _ = writeln!(
+        h,
+        "</div>\n<h2>Reproducibility stamp</h2>\n<ul class=\"small\">"
+    );
+    for (k, v) in stamp_lines(r) {
+        let _ = writeln!(h, "<li>{k}: <code>{}</code></li>", esc(&v));
+    }
+    let _ = writeln!(
+        h,
+        "<li {HTML_TIMING_MARK}>report wall time: {:.1} s</li>\n</ul>\n</body>\n</html>",
+        r.stamp.wall_seconds
+    );
+    h
+}
+
+/// Turn Markdown `code` spans of already escaped text into `<code>`.
+fn code_spans(s: &str) -> String {
+    let mut out = String::new();
+    for (i, part) in s.split('`').enumerate() {
+        if i % 2 == 1 {
+            let _ = write!(out, "<code>{part}</code>");
+        } else {
+            out.push_str(part);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn figures_come_from_cargo_toml() {
+        let all = all_binaries();
+        assert!(all.contains(&"fig1") && all.contains(&"report"));
+        let d = default_figures();
+        for tool in ["bench", "explore", "merge", "report", "pipe-matrix"] {
+            assert!(!d.contains(&tool), "{tool} is not a default figure");
+        }
+        assert!(d.contains(&"hopper-fig2") && d.contains(&"waves-fig12"));
+    }
+
+    #[test]
+    fn only_is_validated() {
+        let s = select(Some("hopper-fig3, fig1")).unwrap();
+        assert_eq!(s, vec!["fig1", "hopper-fig3"], "Cargo.toml order");
+        assert_eq!(select(Some("pipe-matrix")).unwrap(), vec!["pipe-matrix"]);
+        for bad in ["fig99", "bench", "report", "", ","] {
+            let e = select(Some(bad)).unwrap_err();
+            assert_eq!(e.kind, ErrorKind::InvalidParameter, "{bad}");
+            assert!(e.message.contains("fig1"), "lists the allowed names");
+        }
+        let figs = vec!["fig2".to_string()];
+        let (b, a) = parse_extra("fig2=--runs 8", &figs).unwrap();
+        assert_eq!((b.as_str(), a), ("fig2", vec!["--runs".into(), "8".into()]));
+        assert!(parse_extra("fig1=--runs 8", &figs).is_err());
+        assert!(parse_extra("fig2", &figs).is_err());
+    }
+
+    #[test]
+    fn old_and_new_check_formats() {
+        let s = json!({"paper": "PH94 Fig. 2", "rules": "ph94", "site_updates": 1e9});
+        let old = json!({"name": "alpha", "measured": 1.3, "error": 0.04, "published": 1.33,
+            "tolerance": 0.09, "pass": false, "note": "n"});
+        let r = Row::from_json("fig2", &s, &old);
+        assert_eq!((r.paper.as_str(), r.figure.as_str()), ("PH94", "Fig. 2"));
+        assert_eq!(r.kind, "unstated");
+        assert_eq!(r.verdict, "not-reproduced");
+        assert!(r.is_published_claim());
+        let claim = json!({"name": "c", "measured": 1.0, "error": 0.0, "published": null,
+            "tolerance": null, "pass": true, "note": "n"});
+        let r = Row::from_json("fig2", &s, &claim);
+        assert_eq!(r.verdict, "reproduced");
+        assert!(!r.is_published_claim());
+        assert_eq!(r.tolerance, None);
+        let new = json!({"name": "alpha", "kind": "published", "measured": 1.3, "error": 0.04,
+            "runs": 8, "published": null, "source": "PH94 p. 2", "tolerance": 0.1,
+            "verdict": "undecided", "pass": false, "note": "n"});
+        let r = Row::from_json("fig2", &s, &new);
+        assert_eq!(
+            (r.kind.as_str(), r.verdict.as_str()),
+            ("published", "undecided")
+        );
+        assert_eq!(r.runs, Some(8));
+        assert!(r.is_published_claim());
+    }
+
+    #[test]
+    fn formatting() {
+        assert_eq!(sig(1.3748824, 4), "1.375");
+        assert_eq!(sig(0.00067138, 2), "6.7e-4");
+        assert_eq!(sig(-3.02, 4), "-3.020");
+        assert_eq!(sig(1234567.0, 4), "1.235e6");
+        assert_eq!(num(None), "n/a");
+        assert_eq!(
+            shorten("a short note; NOT REPRODUCED: why", 90),
+            "a short note"
+        );
+        let long = "word ".repeat(40);
+        let s = shorten(&long, 30);
+        assert!(s.ends_with('…') && s.chars().count() <= 31, "{s}");
+        assert_eq!(esc("<a & \"b\">"), "&lt;a &amp; &quot;b&quot;&gt;");
+        assert_eq!(
+            slug("## Known discrepancies of the default reading (`ph94+gravity-first+wall-move`, sessions 2-3)"),
+            "known-discrepancies-of-the-default-reading-ph94gravity-firstwall-move-sessions-2-3"
+        );
+        assert_eq!(
+            without_timing(&format!("a\nb {TIMING_MARK}\n<tr {HTML_TIMING_MARK}>\nc")),
+            "a\nc"
+        );
+    }
+}

@@ -1,0 +1,161 @@
+//! Acceptance tests of the `report` binary (issue 17) on the two cheapest
+//! figures (the hopper's, a few seconds each at the quick tier on one thread).
+
+use granular_automata::report::without_timing;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const EXE: &str = env!("CARGO_BIN_EXE_report");
+
+/// A fresh output folder of the test target directory.
+fn fresh(tag: &str) -> PathBuf {
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("report-{tag}"));
+    let _ = std::fs::remove_dir_all(&out);
+    out
+}
+
+fn report(out: &Path, args: &[&str]) -> Output {
+    Command::new(EXE)
+        .args(["--tier", "quick", "--threads", "1", "--out"])
+        .arg(out)
+        .args(args)
+        .output()
+        .expect("report runs")
+}
+
+fn read(path: PathBuf) -> String {
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The rows of the Markdown checks table: (binary, check name, verdict).
+fn md_rows(md: &str) -> Vec<(String, String, String)> {
+    let table = md.split("## Checks").nth(1).expect("checks section");
+    let mut lines = table.lines().filter(|l| l.starts_with('|'));
+    let header: Vec<String> = lines
+        .next()
+        .expect("header")
+        .split('|')
+        .map(|c| c.trim().to_string())
+        .collect();
+    let col = |name: &str| header.iter().position(|h| h == name).expect(name);
+    let (fig, check, verdict) = (col("figure"), col("check: claim"), col("verdict"));
+    lines
+        .skip(1)
+        .take_while(|l| !l.starts_with("| figure |"))
+        .map(|l| {
+            let cells: Vec<&str> = l.split('|').map(str::trim).collect();
+            let tick = |s: &str| s.split('`').nth(1).expect("`name`").to_string();
+            (
+                tick(cells[fig]),
+                tick(cells[check]),
+                cells[verdict].to_string(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn report_of_two_figures_agrees_with_their_summaries_and_is_reproducible() {
+    let out = fresh("two");
+    let only = ["--only", "hopper-fig3,hopper-fig2"];
+    let first = report(&out, &only);
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let md = read(out.join("report/REPORT.md"));
+    let html = read(out.join("report/index.html"));
+    assert!(html.starts_with("<!DOCTYPE html>") && !html.contains("<script"));
+    assert!(
+        !html.contains("http://") && !html.contains("https://"),
+        "offline page"
+    );
+    assert!(
+        html.contains("src=\"../hopper-fig2/hopper-fig2-gr.png\""),
+        "thumbnail"
+    );
+
+    let rows = md_rows(&md);
+    let mut expected = vec![];
+    for bin in ["hopper-fig2", "hopper-fig3"] {
+        let s: serde_json::Value =
+            serde_json::from_str(&read(out.join(bin).join("summary.json"))).unwrap();
+        for c in s["checks"].as_array().unwrap() {
+            let verdict = match c["verdict"].as_str() {
+                Some(v) => v.to_string(),
+                None if c["pass"].as_bool().unwrap() => "reproduced".into(),
+                None => "not-reproduced".into(),
+            };
+            expected.push((
+                bin.to_string(),
+                c["name"].as_str().unwrap().to_string(),
+                verdict,
+            ));
+        }
+    }
+    assert!(!expected.is_empty());
+    assert_eq!(
+        rows, expected,
+        "one row per check, verdict as in summary.json"
+    );
+    for (_, name, verdict) in &expected {
+        assert!(
+            html.contains(&format!("<code>{name}</code>")) && html.contains(verdict.as_str()),
+            "{name} in the HTML"
+        );
+    }
+
+    // the same command again: only timing lines differ
+    let second = report(&out, &only);
+    assert!(second.status.success());
+    let md2 = read(out.join("report/REPORT.md"));
+    let html2 = read(out.join("report/index.html"));
+    assert_eq!(without_timing(&md), without_timing(&md2));
+    assert_eq!(without_timing(&html), without_timing(&html2));
+}
+
+#[test]
+fn a_failing_figure_is_listed_and_does_not_stop_the_others() {
+    let out = fresh("failing");
+    // hopper-fig2 gets an option it does not know: clap exits with status 2
+    let r = report(
+        &out,
+        &[
+            "--only",
+            "hopper-fig2,hopper-fig3",
+            "--args-for",
+            "hopper-fig2=--no-such-option",
+        ],
+    );
+    assert!(!r.status.success(), "a failed figure fails the report");
+    let md = read(out.join("report/REPORT.md"));
+    let failed = md
+        .split("## Failed figures")
+        .nth(1)
+        .expect("failed section");
+    assert!(failed.contains("**hopper-fig2**: exit status 2"), "{md}");
+    assert!(failed.contains("--no-such-option"), "stderr tail shown");
+    assert!(md.contains("`hopper-fig3`: ") || md.contains("(`hopper-fig3`)"));
+    let rows = md_rows(&md);
+    assert!(rows.iter().all(|(b, _, _)| b == "hopper-fig3"));
+    assert!(
+        !rows.is_empty(),
+        "the figure after the failed one still ran"
+    );
+    let html = read(out.join("report/index.html"));
+    assert!(html.contains("Failed figures") && html.contains("hopper-fig2"));
+}
+
+#[test]
+fn unknown_figures_are_a_typed_error_up_front() {
+    let out = fresh("unknown");
+    let r = report(&out, &["--only", "hopper-fig2,fig99"]);
+    assert_eq!(r.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("fig99") && err.contains("hopper-fig2"),
+        "{err}"
+    );
+    assert!(!out.join("hopper-fig2").exists(), "nothing ran");
+}
