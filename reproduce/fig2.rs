@@ -7,6 +7,7 @@
 
 use granular_automata::cli::PipeArgs;
 use granular_automata::pipe::spectra::{run_figure, SpectrumFigure};
+use granular_automata::pipe::claims::{ALPHA_MARGIN, V_MARGIN};
 use granular_automata::pipe::Params;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -18,8 +19,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         paper: "PH94 Fig. 2",
         // the default pipe is this figure's: L = 220, W = 11, rho = 1, p = g = b = 0.5
         params: Params::default(),
-        alpha: (1.33, 0.02),         // PH94: 1.33 +- 0.02
-        v_peak: Some((0.40, 0.005)), // PH94: 0.40, two decimals
+        // PH94: alpha = 1.33 +- 0.02 and a peak at v = 0.40; margins Delta
+        // fixed in session 2, as in the matrix (pipe::claims)
+        alpha: (1.33, ALPHA_MARGIN),
+        v_peak: Some((0.40, V_MARGIN)),
         note: "",
     };
     run_figure(&fig, &args.common, args.rules.parse()?)?;

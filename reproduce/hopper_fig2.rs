@@ -4,6 +4,7 @@
 //! `cargo run --release --bin hopper-fig2 -- --tier quick`
 
 use clap::Parser;
+use granular_automata::analysis::grading::{Claim, Estimate, Kind};
 use granular_automata::cli::Common;
 use granular_automata::hopper::experiment::{core_rows, run_cases, Case, Plan, FIG2_MEASURES};
 use granular_automata::hopper::picture::{draw_snapshots, Panel};
@@ -29,7 +30,7 @@ fn main() -> granular_automata::Result<()> {
     let c = &args.common;
     c.reject_shard("hopper-fig2")?;
     let tier = c.tier;
-    let runs = c.runs_or(2, 4, 8);
+    let runs = c.runs_or(3, 4, 8);
     let base = tier.pick(
         HopperParams::quick(),
         HopperParams::default(),
@@ -136,19 +137,39 @@ fn main() -> granular_automata::Result<()> {
     // checks (no published numbers: qualitative claims of BB90 Fig. 2)
     let emptied: Vec<bool> = recs.iter().map(|rs| rs.iter().all(|r| r.emptied)).collect();
     let ratio = (g("beta0_activity_centre").0 + 1e-3) / (g("beta0_activity_wall").0 + 1e-3);
+    let n = recs[0].len();
+    let e = |k: &str| Estimate::from(g(k), n);
+    let src = "BB90 Fig. 2 (qualitative)";
+    let above = |threshold| Claim::Above { threshold };
+    let empties = |c: usize, name: &str, what: &str| {
+        Check::test(name, Kind::Published, "BB90 Fig. 2 (the hopper flows until empty)",
+            g(&format!("{}_remaining_grains", CASES[c].key)).0, n, emptied[c],
+            &format!("{what}: every run empties (statistic: grains left, mean over runs)"))
+    };
     let checks = vec![
-        Check::claim("beta0_empties", g("beta0_remaining_grains").0, 0.0, emptied[0], "BB90 Fig. 2a: beta = 0 flows until empty, no jam"),
-        Check::claim("beta1_along_empties", g("beta1_along_remaining_grains").0, 0.0, emptied[1], "beta = 1, literal reading: empties"),
-        Check::claim("beta1_same_empties", g("beta1_same_remaining_grains").0, 0.0, emptied[2], "beta = 1, same-orientation reading: empties"),
-        Check::claim("beta0_central_core", ratio, 0.0, ratio >= 4.0, "BB90 Fig. 2a: (activity at centre + 1e-3)/(activity next to the walls + 1e-3) >= 4 at the lower core row (as tests/hopper_acceptance.rs)"),
-        Check::claim("beta0_core_lowered_density", g("beta0_occupancy_core").0 - g("beta0_occupancy_sides").0, g("beta0_occupancy_core").1, g("beta0_occupancy_core").0 < g("beta0_occupancy_sides").0, "BB90 Fig. 2a: density lowered inside the core (occupancy core - sides < 0)"),
-        Check::claim("beta0_structureless", g("beta0_order_half_empty").0, g("beta0_order_half_empty").1, (g("beta0_order_half_empty").0 - 1.0 / 3.0).abs() < 0.03, "BB90 Fig. 2a: order parameter within 0.03 of 1/3 (random)"),
-        Check::claim("beta1_order_forms_while_filling", g("beta1_along_order_filled").0, g("beta1_along_order_filled").1, g("beta1_along_order_filled").0 > 0.45, "BB90 Fig. 2b: order parameter > 0.45 after filling (literal reading)"),
-        Check::claim("beta1_same_order", g("beta1_same_order_half_empty").0, g("beta1_same_order_half_empty").1, g("beta1_same_order_half_empty").0 > 0.45, "BB90 Fig. 2c-f: order parameter > 0.45 (same-orientation reading)"),
-        Check::claim("beta1_along_vertical_core", g("beta1_along_vertical_fraction_moving").0, g("beta1_along_vertical_fraction_moving").1, g("beta1_along_vertical_fraction_moving").0 > 0.45, "BB90 Fig. 2c-f: moving grains mostly vertical (> 0.45; 1/3 random), literal reading"),
-        Check::claim("beta1_same_vertical_core", g("beta1_same_vertical_fraction_moving").0, g("beta1_same_vertical_fraction_moving").1, g("beta1_same_vertical_fraction_moving").0 > 0.45, "BB90 Fig. 2c-f: moving grains mostly vertical (> 0.45; 1/3 random), same-orientation reading"),
-        Check::claim("beta1_along_container_scale_order", g("beta1_along_corr_length_half_empty").0, g("beta1_along_corr_length_half_empty").1, g("beta1_along_corr_length_half_empty").0 >= 8.0, "BB90 Fig. 2c-f: correlation length >= 8 steps (container scale), literal reading"),
-        Check::claim("beta1_same_container_scale_order", g("beta1_same_corr_length_half_empty").0, g("beta1_same_corr_length_half_empty").1, g("beta1_same_corr_length_half_empty").0 >= 8.0, "BB90 Fig. 2c-f: correlation length >= 8 steps (container scale), same-orientation reading"),
+        empties(0, "beta0_empties", "beta = 0"),
+        empties(1, "beta1_along_empties", "beta = 1, literal reading"),
+        empties(2, "beta1_same_empties", "beta = 1, same-orientation reading"),
+        Check::test("beta0_central_core", Kind::Published, "BB90 Fig. 2a (a central flowing core)", ratio, n, ratio >= 4.0,
+            "(activity at centre + 1e-3)/(activity next to the walls + 1e-3) >= 4 at the lower core row, of the means over runs (as tests/hopper_acceptance.rs)"),
+        Check::published("beta0_core_lowered_density", "BB90 Fig. 2a (density lowered inside the core)",
+            e("beta0_occupancy_core").minus(e("beta0_occupancy_sides")), Claim::Below { threshold: 0.0 },
+            "occupancy core - sides < 0"),
+        Check::published("beta0_structureless", src, e("beta0_order_half_empty"),
+            Claim::Within { target: 1.0 / 3.0, margin: 0.03 },
+            "beta = 0: order parameter within 0.03 of 1/3 (random)"),
+        Check::published("beta1_order_forms_while_filling", "BB90 Fig. 2b", e("beta1_along_order_filled"), above(0.45),
+            "order parameter > 0.45 after filling (literal reading)"),
+        Check::published("beta1_same_order", "BB90 Fig. 2c-f", e("beta1_same_order_half_empty"), above(0.45),
+            "order parameter > 0.45 (same-orientation reading)"),
+        Check::published("beta1_along_vertical_core", "BB90 Fig. 2c-f", e("beta1_along_vertical_fraction_moving"), above(0.45),
+            "moving grains mostly vertical (> 0.45; 1/3 random), literal reading"),
+        Check::published("beta1_same_vertical_core", "BB90 Fig. 2c-f", e("beta1_same_vertical_fraction_moving"), above(0.45),
+            "moving grains mostly vertical (> 0.45; 1/3 random), same-orientation reading"),
+        Check::published("beta1_along_container_scale_order", "BB90 Fig. 2c-f", e("beta1_along_corr_length_half_empty"), above(8.0),
+            "correlation length > 8 steps (container scale), literal reading"),
+        Check::published("beta1_same_container_scale_order", "BB90 Fig. 2c-f", e("beta1_same_corr_length_half_empty"), above(8.0),
+            "correlation length > 8 steps (container scale), same-orientation reading"),
     ];
     let params = serde_json::json!({
         "hopper": base,

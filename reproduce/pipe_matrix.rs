@@ -6,6 +6,7 @@
 //! `cargo run --release --bin pipe-matrix -- --tier quick`
 
 use clap::Parser;
+use granular_automata::analysis::grading::Kind;
 use granular_automata::cli::Common;
 use granular_automata::pipe::claims::{
     grade, grade_steps, Graded, MatrixSize, Verdict, CLAIMS, GRADING_VERSION,
@@ -251,11 +252,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .filter(|(r, _)| *r == default)
         .flat_map(|(_, graded)| {
             graded.iter().map(|g| {
-                Check::claim(
+                let source = CLAIMS
+                    .iter()
+                    .find(|(id, _)| *id == g.claim)
+                    .map_or("MODEL.md A10", |(_, what)| what);
+                Check::with_verdict(
                     &format!("default.{}", g.claim),
+                    Kind::Published,
+                    source,
                     g.measured,
                     g.error,
-                    g.verdict == Verdict::Reproduced,
+                    size.runs,
+                    g.verdict,
                     &g.detail,
                 )
             })

@@ -9,6 +9,7 @@
 //! `cargo run --release --bin waves-fig12 -- --tier quick`
 
 use clap::Parser;
+use granular_automata::analysis::grading::{Claim, Estimate, Kind};
 use granular_automata::cli::{Common, PipeArgs};
 use granular_automata::ensemble::Outcome;
 use granular_automata::pipe::open::{
@@ -49,6 +50,12 @@ struct Args {
     #[arg(long)]
     no_spectra: bool,
 }
+
+/// Margin Delta of the I_c claims: I_c is quoted to two decimals (0.52), and
+/// a change of 0.02 (4%) counts as a dependence. Chosen in session 4 from the
+/// quoted precision; the measured W dependence (0.09, EXPERIMENTS.md) fails
+/// under any margin below 0.07, so the choice does not decide that verdict.
+const I_C_MARGIN: f64 = 0.02;
 
 /// N(t) sampled every EVERY steps.
 const EVERY: u64 = 100;
@@ -311,24 +318,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let thr = trend_threshold(runs);
     let mut checks = vec![
-        Check::claim("bookkeeping_exact", book as f64, 0.0, book == 0, "MODEL.md A7: injected - out_bottom - out_top = N(t) - N(0) at every sample of every trend run"),
-        Check::claim("stationary_below_i_c", nt[0].1.t, nt[0].1.growth_err, nt[0].1.stationary,
+        Check::identity("bookkeeping_exact", book as f64, book == 0, "MODEL.md A7: injected - out_bottom - out_top = N(t) - N(0) at every sample of every trend run"),
+        Check::test("stationary_below_i_c", Kind::Published, "PH95 III I (N(t) stationary below I_c)", nt[0].1.t, runs, nt[0].1.stationary,
             &format!("N(t) at I = {} (0.5 I_c): no clog and growth t < {thr:.2} (Student t, one-sided false-alarm rate {TREND_FALSE_ALARM}; fresh runs, same test as the bisection)", nt[0].0)),
-        Check::claim("growing_above_i_c", nt[2].1.t, nt[2].1.growth_err, !nt[2].1.stationary,
+        Check::test("growing_above_i_c", Kind::Published, "PH95 III I (N(t) grows above I_c)", nt[2].1.t, runs, !nt[2].1.stationary,
             &format!("N(t) at I = {} (1.25 I_c): clogs or grows (t >= {thr:.2})", nt[2].0)),
+        Check::published("i_c", "PH95 Fig. 12 (I_c = 0.52)", Estimate::new(i_c, i_c_err, runs),
+            Claim::Within { target: 0.52, margin: I_C_MARGIN },
+            &format!("critical injection rate by bisection at L = {l0}, W = {w0}; error = bisection half-width; margin Delta = {I_C_MARGIN}")),
     ];
     if ic.len() > 1 {
-        let spread = ic
+        let worst = ic
             .iter()
-            .map(|&(_, _, i, _)| (i - i_c).abs())
-            .fold(0.0, f64::max);
-        let tol_geom = ic
-            .iter()
-            .map(|&(_, _, _, e)| 2.0 * (e * e + i_c_err * i_c_err).sqrt())
-            .fold(f64::INFINITY, f64::min);
-        metrics.insert("i_c_geometry_spread".into(), spread);
-        checks.push(Check::claim("i_c_independent_of_w_and_l", spread, 0.0, spread <= tol_geom,
-            &format!("PH95 claims no dependence on W and L: max |I_c(L, W) - I_c({l0}, {w0})| <= 2 x combined bisection half-widths = {tol_geom:.4}")));
+            .map(|&(_, _, i, e)| Estimate::new(i - i_c, e.hypot(i_c_err), runs))
+            .max_by(|a, b| a.mean.abs().total_cmp(&b.mean.abs()))
+            .expect("more than one geometry");
+        metrics.insert("i_c_geometry_spread".into(), worst.mean.abs());
+        checks.push(Check::published("i_c_independent_of_w_and_l", "PH95 III I (I_c independent of the pipe size)", worst,
+            Claim::Within { target: 0.0, margin: I_C_MARGIN },
+            &format!("largest I_c(L, W) - I_c({l0}, {w0}) over the geometries, bisection half-widths combined; margin Delta = {I_C_MARGIN}")));
     }
     out.finish(&Summary {
         figure: "waves-fig12".into(),

@@ -21,6 +21,7 @@
 //! `cargo run --release --bin waves-fig4 -- --tier quick`
 
 use clap::Parser;
+use granular_automata::analysis::grading::{Claim, Estimate};
 use granular_automata::cli::WaveOptions;
 use granular_automata::pipe::observables::random_start_bin_variance;
 use granular_automata::pipe::overlap::{
@@ -112,26 +113,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             pts,
             PALETTE[k % PALETTE.len()],
         ));
-        checks.push(Check::claim(
+        let excess = Estimate::new(m, e, res.len());
+        let threshold = (NULL_FACTOR - 1.0) * null;
+        checks.push(Check::published(
             &format!("wave_profile_L{l}"),
-            m,
-            e,
-            m - 2.0 * e > (NULL_FACTOR - 1.0) * null,
-            &format!("a wave: the excess amplitude over the alignment bias of white noise (same alignment, the run's per-bin variance) exceeds that bias itself, excess - 2 SE > null = {null:.4} (amplitude above twice the noise level; factor {NULL_FACTOR} as fig1's s_low threshold, fixed after a wave-free reading with correlated noise, any-mover, showed excesses of 0.3-0.8 of the null)"),
+            "PH95 Fig. 4 (a wave profile)",
+            excess,
+            Claim::Above { threshold },
+            &format!("a wave: the excess amplitude over the alignment bias of white noise (same alignment, the run's per-bin variance) exceeds that bias itself, null = {null:.4} (amplitude above twice the noise level; factor {NULL_FACTOR} as fig1's s_low threshold, fixed after a wave-free reading with correlated noise, any-mover, showed excesses of 0.3-0.8 of the null)"),
         ));
-        checks.push(Check::claim(
+        checks.push(Check::pinned(
             &format!("flat_profile_L{l}"),
-            m,
-            e,
-            m + 2.0 * e < (NULL_FACTOR - 1.0) * null,
-            &format!("flat within noise: excess + 2 SE < null = {null:.4} (expected for a wave-free reading such as p = 0; between the two criteria the profile is undecided)"),
+            "the wave-free control (p = 0)",
+            excess,
+            Claim::Below { threshold },
+            &format!("flat within noise: excess below null = {null:.4} (expected for a wave-free reading such as p = 0)"),
         ));
-        steep.push(Check::claim(
+        steep.push(Check::published(
             &format!("steep_front_L{l}"),
-            asy.0,
-            asy.1,
-            asy.0 - 2.0 * asy.1 > 0.0,
-            "asymmetry (back - front) / (back + front) of the half-widths, > 0 + 2 SE: the downstream front is steeper than the back (reported; the paper describes the shape)",
+            "PH95 Fig. 4 (the downstream front is steeper than the back)",
+            Estimate::new(asy.0, asy.1, res.len()),
+            Claim::Above { threshold: 0.0 },
+            "asymmetry (back - front) / (back + front) of the half-widths > 0",
         ));
     }
     checks.extend(steep);

@@ -7,6 +7,7 @@
 //! `cargo run --release --bin waves-fig9 -- --tier quick`
 
 use clap::Parser;
+use granular_automata::analysis::grading::Kind;
 use granular_automata::cli::PipeArgs;
 use granular_automata::pipe::sweep::{plot_alpha_v, points_1d, Curve, SweepFigure};
 use granular_automata::pipe::Params;
@@ -117,17 +118,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .sum();
     let last = res.last().expect("at least one point");
     let checks = vec![
-        Check::claim(
+        Check::exact(
             "valid_up_to_rho_1",
+            Kind::Pinned,
+            "MODEL.md A11 (runs left the validity only near rho ~ 2)",
             invalid_below as f64,
-            0.0,
             invalid_below == 0,
             "internal consistency: no run at rho <= 1 leaves the model's validity (MODEL.md A11: only rho ~ 2 did)",
         ),
-        Check::claim(
+        Check::exact(
             "validity_limit_detected",
+            Kind::Pinned,
+            "MODEL.md A11; waves-fig9 standard tier (EXPERIMENTS.md)",
             last.invalid as f64,
-            0.0,
             last.invalid > 0,
             &format!(
                 "the sweep reaches the model's validity limit: at least one run at the largest rho = {} stops with RestExceedsSites/RelocationStuck and is counted, not fatal",

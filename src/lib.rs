@@ -62,5 +62,6 @@ pub mod pipe;
 pub mod plot;
 pub mod report;
 pub mod run;
+pub mod validate;
 
 pub use error::{Error, ErrorKind, Result};

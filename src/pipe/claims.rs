@@ -9,39 +9,11 @@ use super::record::{fig1_panels, run_bands};
 use super::spectra::{spectrum_ensemble, tier_setup, SpectrumEnsemble};
 use super::{Params, Rules};
 use crate::error::{ErrorKind, Result};
-use crate::run::{derive_seed, ensemble, mean_sem, Tier};
+use crate::run::{derive_seed, ensemble, Tier};
 use serde::{Deserialize, Serialize};
 
-/// The grade of one claim for one reading.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Verdict {
-    /// The measurement agrees with the claim beyond its error.
-    Reproduced,
-    /// The measurement contradicts the claim beyond its error.
-    NotReproduced,
-    /// The error is too large to decide.
-    Undecided,
-}
-
-impl Verdict {
-    /// The status name of summary.json's `matrix` (issue 4).
-    pub fn status(self) -> &'static str {
-        match self {
-            Verdict::Reproduced => "reproduced",
-            Verdict::NotReproduced => "not-reproduced",
-            Verdict::Undecided => "undecided",
-        }
-    }
-
-    /// One-word label for tables.
-    pub fn label(self) -> &'static str {
-        match self {
-            Verdict::Reproduced => "yes",
-            Verdict::NotReproduced => "no",
-            Verdict::Undecided => "?",
-        }
-    }
-}
+pub use crate::analysis::grading::Verdict;
+use crate::analysis::grading::{grade as grade_claim, Claim, Estimate};
 
 /// One graded claim.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -49,8 +21,10 @@ pub struct Graded {
     /// Claim id (see [`CLAIMS`]).
     pub claim: String,
     /// The measured statistic.
+    #[serde(deserialize_with = "crate::analysis::grading::f64_or_nan")]
     pub measured: f64,
-    /// Its standard error over runs.
+    /// Its standard error over runs (NaN, written null, for one run).
+    #[serde(deserialize_with = "crate::analysis::grading::f64_or_nan")]
     pub error: f64,
     /// The grade.
     pub verdict: Verdict,
@@ -100,8 +74,10 @@ pub const WAVE_THRESHOLD: f64 = 2.0;
 
 /// Version of the grading rules; caches of graded readings carry it, so a
 /// change of rule never mixes with old verdicts. 1: session 1 ("|d| <= 2
-/// sqrt(SE^2 + e^2)"), 2: the equivalence test `equivalent`.
-pub const GRADING_VERSION: u32 = 2;
+/// sqrt(SE^2 + e^2)"), 2: the equivalence test [`equivalent`] with 2 SE,
+/// 3: the one rule of [`crate::analysis::grading`] (k = max(2, t(0.975, n-1))
+/// SE, fewer than 3 runs undecided).
+pub const GRADING_VERSION: u32 = 3;
 
 /// Agreement margin Delta of the alpha claims ("alpha near 4/3", "white
 /// noise, alpha about 0"): |alpha - target| <= 0.1, a third of the way from
@@ -113,41 +89,20 @@ pub const ALPHA_MARGIN: f64 = 0.1;
 /// to two decimals: rounding +-0.005, doubled).
 pub const V_MARGIN: f64 = 0.01;
 
-fn waves(mean: f64, se: f64) -> Verdict {
-    if mean - 2.0 * se > WAVE_THRESHOLD {
-        Verdict::Reproduced
-    } else if mean + 2.0 * se < WAVE_THRESHOLD {
-        Verdict::NotReproduced
-    } else {
-        Verdict::Undecided
-    }
+/// "Density waves": s_low above [`WAVE_THRESHOLD`] by the one grading rule.
+fn waves(s_low: Estimate) -> Verdict {
+    grade_claim(
+        s_low,
+        Claim::Above {
+            threshold: WAVE_THRESHOLD,
+        },
+    )
 }
 
-fn negate(v: Verdict) -> Verdict {
-    match v {
-        Verdict::Reproduced => Verdict::NotReproduced,
-        Verdict::NotReproduced => Verdict::Reproduced,
-        Verdict::Undecided => Verdict::Undecided,
-    }
-}
-
-/// The grading rule of a numerical claim (an equivalence test): reproduced
-/// when the whole 2-SE interval of the measurement lies within `margin` of
-/// the target, not reproduced when it lies wholly outside, else undecided.
-/// Unlike "|d| <= 2 sqrt(SE^2 + e^2)" (session 1), a noisier measurement can
-/// never be graded better than a precise one: a large SE only makes it
-/// undecided.
-fn equivalent(measured: f64, se: f64, target: f64, margin: f64) -> Verdict {
-    let d = (measured - target).abs();
-    if !measured.is_finite() || !se.is_finite() {
-        Verdict::Undecided
-    } else if d + 2.0 * se <= margin {
-        Verdict::Reproduced
-    } else if d - 2.0 * se > margin {
-        Verdict::NotReproduced
-    } else {
-        Verdict::Undecided
-    }
+/// A numerical claim "the value is `target`" within `margin` by the one
+/// grading rule (an equivalence test, [`crate::analysis::grading`]).
+fn equivalent(est: Estimate, target: f64, margin: f64) -> Verdict {
+    grade_claim(est, Claim::Within { target, margin })
 }
 
 /// How much the matrix computes per tier.
@@ -162,12 +117,12 @@ pub struct MatrixSize {
 }
 
 impl MatrixSize {
-    /// quick: 2 runs, m = 4096; standard: 4 runs, m = 8192; paper: 8 runs,
+    /// quick: 3 runs (fewer never decide), m = 4096; standard: 4 runs, m = 8192; paper: 8 runs,
     /// m = 16384. Band runs always use the paper's 40000 steps at L = 2200
     /// (bands do not form reliably in shorter or smaller runs).
     pub fn for_tier(tier: Tier) -> Self {
         MatrixSize {
-            runs: tier.pick(2, 4, 8),
+            runs: tier.pick(3, 4, 8),
             band_steps: 40_000,
             spectrum_tier: tier,
         }
@@ -176,7 +131,7 @@ impl MatrixSize {
 
 /// Band statistic s_low over runs at `params`; a run that leaves the model's
 /// validity (rest particles outnumber sites) counts as NaN and is reported.
-fn band_stat(params: Params, rules: Rules, seeds: &[u64], steps: u64) -> Result<(f64, f64, usize)> {
+fn band_stat(params: Params, rules: Rules, seeds: &[u64], steps: u64) -> Result<(Estimate, usize)> {
     let res = ensemble(seeds.len(), |i| {
         run_bands(params, rules, seeds[i], steps, 80)
     });
@@ -196,8 +151,7 @@ fn band_stat(params: Params, rules: Rules, seeds: &[u64], steps: u64) -> Result<
             Err(e) => return Err(e),
         }
     }
-    let (m, e) = mean_sem(&s);
-    Ok((m, e, invalid))
+    Ok((Estimate::of(&s), invalid))
 }
 
 /// Grade `rules` against every claim of [`CLAIMS`]; `tick(steps)` reports
@@ -234,19 +188,20 @@ pub fn grade(
         fig1_panels(base, rules, seeds[i], size.band_steps, 80, tick)
     });
     let panels: Vec<_> = panels.into_iter().collect::<Result<_>>()?;
-    let stat = |k: usize| mean_sem(&panels.iter().map(|r| r[k].1.s_low).collect::<Vec<_>>());
+    let stat = |k: usize| Estimate::of(&panels.iter().map(|r| r[k].1.s_low).collect::<Vec<_>>());
     for (k, claim, want) in [
         (0, "waves_1a", true),
         (1, "none_p0", false),
         (2, "return_1c", true),
         (3, "none_b0", false),
     ] {
-        let (m, e) = stat(k);
+        let est = stat(k);
         let v = if want {
-            waves(m, e)
+            waves(est)
         } else {
-            negate(waves(m, e))
+            waves(est).negate()
         };
+        let (m, e) = (est.mean, est.se);
         out.push(g(claim, m, e, v, format!("s_low = {m:.2} +- {e:.2}")));
     }
 
@@ -257,16 +212,17 @@ pub fn grade(
     let mut contradict = 0;
     let mut detail = Vec::new();
     for &rho in inside.iter().chain(outside.iter()) {
-        let (m, e, invalid) = band_stat(Params { rho, ..base }, rules, &seeds, size.band_steps)?;
+        let (est, invalid) = band_stat(Params { rho, ..base }, rules, &seeds, size.band_steps)?;
+        let (m, e) = (est.mean, est.se);
         tick(seeds.len() as u64 * size.band_steps);
         let want = inside.contains(&rho);
         let v = if invalid == seeds.len() {
             // the model is undefined there: no waves
-            negate(Verdict::Reproduced)
+            Verdict::NotReproduced
         } else {
-            waves(m, e)
+            waves(est)
         };
-        let v = if want { v } else { negate(v) };
+        let v = if want { v } else { v.negate() };
         match v {
             Verdict::Reproduced => agree += 1,
             Verdict::NotReproduced => contradict += 1,
@@ -309,14 +265,14 @@ pub fn grade(
         "alpha_fig2",
         fig2.alpha,
         fig2.alpha_err,
-        equivalent(fig2.alpha, fig2.alpha_err, 1.33, ALPHA_MARGIN),
+        equivalent(fig2.alpha_estimate(), 1.33, ALPHA_MARGIN),
         format!("alpha = {:.3} +- {:.3}", fig2.alpha, fig2.alpha_err),
     ));
     out.push(g(
         "v_fig2",
         fig2.v_peak,
         fig2.v_err,
-        equivalent(fig2.v_peak, fig2.v_err, 0.40, V_MARGIN),
+        equivalent(fig2.v_estimate(), 0.40, V_MARGIN),
         format!(
             "v = {:.4} +- {:.4} (j = {}, contrast {:.1})",
             fig2.v_peak, fig2.v_err, fig2.j_peak, fig2.fit_of_mean.contrast
@@ -327,7 +283,7 @@ pub fn grade(
         "alpha_p08",
         p08.alpha,
         p08.alpha_err,
-        equivalent(p08.alpha, p08.alpha_err, 1.33, ALPHA_MARGIN),
+        equivalent(p08.alpha_estimate(), 1.33, ALPHA_MARGIN),
         format!("alpha = {:.3} +- {:.3}", p08.alpha, p08.alpha_err),
     ));
     for (claim, params) in [
@@ -339,17 +295,13 @@ pub fn grade(
             claim,
             e.alpha,
             e.alpha_err,
-            equivalent(e.alpha, e.alpha_err, 0.0, ALPHA_MARGIN),
+            equivalent(e.alpha_estimate(), 0.0, ALPHA_MARGIN),
             format!("alpha = {:.3} +- {:.3}", e.alpha, e.alpha_err),
         ));
         if claim == "white_b0" {
             let m = e.mean_spectrum.len();
             let bin_v = s_base.length as f64 / (10.0 * 2.0 * m as f64);
-            let v = if (e.v_peak - 0.5).abs() <= 2.0 * bin_v {
-                Verdict::Reproduced
-            } else {
-                Verdict::NotReproduced
-            };
+            let v = equivalent(e.v_estimate(), 0.5, 2.0 * bin_v);
             out.push(g(
                 "peak_b0",
                 e.v_peak,
@@ -380,17 +332,19 @@ mod tests {
 
     #[test]
     fn verdicts_follow_the_stated_rules() {
-        assert_eq!(waves(10.0, 1.0), Verdict::Reproduced);
-        assert_eq!(waves(1.0, 0.2), Verdict::NotReproduced);
-        assert_eq!(waves(3.0, 1.0), Verdict::Undecided);
-        assert_eq!(equivalent(1.30, 0.02, 1.33, 0.1), Verdict::Reproduced);
-        assert_eq!(equivalent(1.10, 0.02, 1.33, 0.1), Verdict::NotReproduced);
-        assert_eq!(equivalent(1.10, 0.2, 1.33, 0.1), Verdict::Undecided);
-        // more noise never grades better: 1.25 is undecided at SE 0.04 and
-        // at SE 0.08, never reproduced
-        assert_eq!(equivalent(1.25, 0.04, 1.33, 0.1), Verdict::Undecided);
-        assert_eq!(equivalent(1.25, 0.08, 1.33, 0.1), Verdict::Undecided);
-        assert_eq!(equivalent(1.25, 0.005, 1.33, 0.1), Verdict::Reproduced);
+        let n = 100; // k = 2
+        assert_eq!(waves(Estimate::new(10.0, 1.0, n)), Verdict::Reproduced);
+        assert_eq!(waves(Estimate::new(1.0, 0.2, n)), Verdict::NotReproduced);
+        assert_eq!(waves(Estimate::new(3.0, 1.0, n)), Verdict::Undecided);
+        assert_eq!(waves(Estimate::new(10.0, 1.0, 2)), Verdict::Undecided);
+        let e = |m, se| equivalent(Estimate::new(m, se, n), 1.33, 0.1);
+        assert_eq!(e(1.30, 0.02), Verdict::Reproduced);
+        assert_eq!(e(1.10, 0.02), Verdict::NotReproduced);
+        assert_eq!(e(1.10, 0.2), Verdict::Undecided);
+        // more noise never grades better
+        assert_eq!(e(1.25, 0.04), Verdict::Undecided);
+        assert_eq!(e(1.25, 0.08), Verdict::Undecided);
+        assert_eq!(e(1.25, 0.005), Verdict::Reproduced);
         assert_eq!(CLAIMS.len(), 11);
     }
 }

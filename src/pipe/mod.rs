@@ -19,6 +19,8 @@
 
 pub mod claims;
 pub mod collision;
+pub mod draws;
+pub mod engine;
 pub mod observables;
 pub mod open;
 pub mod overlap;
@@ -32,12 +34,13 @@ pub use rules::{GravityWording, RestPlacement, Rules};
 use crate::error::{check_min, check_range, check_unit, Error, ErrorKind, Result};
 use crate::lattice::neighbour;
 use collision::{bit, threshold, CollisionTable, Entry, MOVERS, REST_BIT};
-use rand::{Rng, RngExt, SeedableRng};
+use draws::Draws;
+use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// What happens at the two ends of the pipe (MODEL.md A7).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum Boundary {
     /// Rows wrap around: row L-1 neighbours row 0.
     Periodic,
@@ -59,7 +62,7 @@ pub enum Boundary {
 pub const RHO_RANGE: (f64, f64) = (0.0, 6.0);
 
 /// Parameters of a pipe run (MODEL.md A1-A9).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Params {
     /// W: number of columns (pipe width), >= 1.
     pub width: usize,
@@ -182,12 +185,14 @@ struct Moves {
     moves: [(u8, u8); 4],
 }
 
-/// The state of a pipe run.
+/// The state of a pipe run. `D` makes the random choices: the run's
+/// generator, or an [`draws::Enumerator`] of every branch (level 1 of
+/// `validate`).
 #[derive(Debug, Clone)]
-pub struct Pipe {
+pub struct Pipe<D = Xoshiro256PlusPlus> {
     params: Params,
     rules: Rules,
-    rng: Xoshiro256PlusPlus,
+    rng: D,
     /// Site bytes, column-major with one ghost row at each end of every column
     /// and one ghost column on each side: index `(x + 1) * (L + 2) + y + 1`.
     cells: Vec<u8>,
@@ -203,18 +208,6 @@ pub struct Pipe {
     extras: Vec<u32>,
     time: u64,
     flux: Flux,
-}
-
-/// True with probability `t / 2^32`; draws only when the outcome is uncertain.
-#[inline]
-fn chance(rng: &mut Xoshiro256PlusPlus, t: u64) -> bool {
-    if t == 0 {
-        false
-    } else if t >= 1 << 32 {
-        true
-    } else {
-        (rng.next_u32() as u64) < t
-    }
 }
 
 fn gravity_table(wording: GravityWording) -> [Moves; 128] {
@@ -278,7 +271,7 @@ impl Pipe {
                 for y in 0..params.length {
                     let mut s = 0u8;
                     for c in 1..=6 {
-                        if chance(&mut pipe.rng, t) {
+                        if pipe.rng.chance(t) {
                             s |= bit(c);
                         }
                     }
@@ -288,6 +281,36 @@ impl Pipe {
             }
         }
         Ok(pipe)
+    }
+
+    /// This run with its random choices made by `draws` from now on (e.g.
+    /// an [`draws::Enumerator`] for the exact outcome distribution).
+    pub fn with_draws<E: Draws>(self, draws: E) -> Pipe<E> {
+        Pipe {
+            params: self.params,
+            rules: self.rules,
+            rng: draws,
+            cells: self.cells,
+            next: self.next,
+            stride: self.stride,
+            table: self.table,
+            kind: self.kind,
+            gravity_moves: self.gravity_moves,
+            g_t: self.g_t,
+            b_t: self.b_t,
+            inject_t: self.inject_t,
+            extras: self.extras,
+            time: self.time,
+            flux: self.flux,
+        }
+    }
+}
+
+impl<D: Draws> Pipe<D> {
+    /// The random choices of this run, taking the run apart (e.g. to read
+    /// an [`draws::Enumerator`]'s path probability after a step).
+    pub fn into_draws(self) -> D {
+        self.rng
     }
 
     fn build_kinds(&mut self) {
@@ -301,6 +324,20 @@ impl Pipe {
                 2
             };
         }
+    }
+
+    /// Replace the collision table: only for the mutant engines of
+    /// `validate` (`crate::validate::mutants`), which must differ from the
+    /// reference in one rule.
+    #[doc(hidden)]
+    pub fn replace_collision_table(&mut self, table: CollisionTable) {
+        self.table = table;
+        self.build_kinds();
+    }
+
+    /// Empty every site (prepared states, level-1 probes of `validate`).
+    pub fn clear(&mut self) {
+        self.cells.iter_mut().for_each(|c| *c = 0);
     }
 
     /// Change the dissipation p mid-run (PH94 Fig. 1c); validated.
@@ -405,7 +442,7 @@ impl Pipe {
         for x in 0..self.params.width {
             let i = self.idx(x, y);
             for c in [3, 4, 5] {
-                if self.cells[i] & bit(c) == 0 && chance(&mut self.rng, self.inject_t) {
+                if self.cells[i] & bit(c) == 0 && self.rng.chance(self.inject_t) {
                     self.cells[i] |= bit(c);
                     self.flux.injected += 1;
                 }
@@ -429,11 +466,7 @@ impl Pipe {
                 let k = if kind == 1 {
                     0
                 } else {
-                    let u = self.rng.next_u32() as u64;
-                    e.cumulative
-                        .iter()
-                        .position(|&c| u < c)
-                        .unwrap_or(e.outcomes.len() - 1)
+                    self.rng.pick(&e.cumulative)
                 };
                 let o = e.outcomes[k];
                 self.cells[i] = o.state;
@@ -548,7 +581,7 @@ impl Pipe {
             if n == 0 {
                 break;
             }
-            let k = self.rng.random_range(0..n as u32) as usize;
+            let k = self.rng.below(n as u32) as usize;
             (x, y) = cand[k];
             let i = self.idx(x, y);
             if self.cells[i] & REST_BIT == 0 {
@@ -585,7 +618,7 @@ impl Pipe {
                 }
                 let mut new = s;
                 for &(from, to) in &m.moves[..m.n as usize] {
-                    if chance(&mut self.rng, self.g_t) {
+                    if self.rng.chance(self.g_t) {
                         new = (new & !bit(from as usize)) | bit(to as usize);
                     }
                 }
@@ -593,9 +626,9 @@ impl Pipe {
                 // slides down a diagonal (0 -> 3 or 0 -> 5) with probability g.
                 if blocked_rest {
                     let free = (new & bit(3) == 0, new & bit(5) == 0);
-                    if (free.0 || free.1) && chance(&mut self.rng, self.g_t) {
+                    if (free.0 || free.1) && self.rng.chance(self.g_t) {
                         let to = match free {
-                            (true, true) if self.rng.next_u32() >> 31 == 1 => 5,
+                            (true, true) if self.rng.coin() => 5,
                             (true, _) => 3,
                             _ => 5,
                         };
@@ -616,7 +649,7 @@ impl Pipe {
                 let i = self.idx(x, y);
                 let s = self.cells[i];
                 let (up, down) = (s & bit(1) != 0, s & bit(4) != 0);
-                if up != down && chance(&mut self.rng, self.b_t) {
+                if up != down && self.rng.chance(self.b_t) {
                     self.cells[i] = s ^ (bit(1) | bit(4));
                 }
             }
@@ -646,7 +679,7 @@ impl Pipe {
                     [true, true] => bit(bounce[0]) | bit(bounce[1]),
                     _ => {
                         let k = if leaving[0] { 0 } else { 1 };
-                        if chance(&mut self.rng, self.b_t) {
+                        if self.rng.chance(self.b_t) {
                             bit(bounce[k])
                         } else {
                             bit(specular[k])
@@ -732,14 +765,14 @@ impl Pipe {
             if s != 0 {
                 self.next[c0 + j] |= match s {
                     B2 => {
-                        if chance(&mut self.rng, self.b_t) {
+                        if self.rng.chance(self.b_t) {
                             B5
                         } else {
                             B6
                         }
                     }
                     B3 => {
-                        if chance(&mut self.rng, self.b_t) {
+                        if self.rng.chance(self.b_t) {
                             B6
                         } else {
                             B5
@@ -755,14 +788,14 @@ impl Pipe {
             if s != 0 {
                 self.next[cw + j] |= match s {
                     B6 => {
-                        if chance(&mut self.rng, self.b_t) {
+                        if self.rng.chance(self.b_t) {
                             B3
                         } else {
                             B2
                         }
                     }
                     B5 => {
-                        if chance(&mut self.rng, self.b_t) {
+                        if self.rng.chance(self.b_t) {
                             B2
                         } else {
                             B3

@@ -6,6 +6,7 @@
 use super::{Params, Pipe, Rules};
 use crate::analysis::fit::{estimate_alpha, wave_velocity, AlphaEstimate};
 use crate::analysis::spectrum::{average_spectra, spctrm, SpectrumParams, Window};
+use crate::analysis::grading::{Claim, Estimate};
 use crate::error::Result;
 use crate::plot::{line_chart_at, Line, PALETTE};
 use crate::run::{ensemble, mean_sem};
@@ -126,6 +127,19 @@ pub struct SpectrumEnsemble {
     pub v_peak: f64,
     /// Standard error of the per-run peak velocities.
     pub v_err: f64,
+}
+
+impl SpectrumEnsemble {
+    /// The per-run alpha as an estimate for grading (mean, SE, runs).
+    pub fn alpha_estimate(&self) -> Estimate {
+        Estimate::new(self.alpha, self.alpha_err, self.runs.len())
+    }
+
+    /// The peak velocity as an estimate for grading (v of the averaged
+    /// spectrum, SE of the per-run peaks, runs).
+    pub fn v_estimate(&self) -> Estimate {
+        Estimate::new(self.v_peak, self.v_err, self.runs.len())
+    }
 }
 
 /// Run `seeds.len()` independent runs on all cores and combine them.
@@ -290,12 +304,6 @@ pub fn tier_setup(tier: crate::run::Tier, params: Params, rules: Rules) -> Spect
     }
 }
 
-/// Tolerance of a comparison: twice the combined standard error of the
-/// measurement (spread over runs) and of the published value.
-pub fn tolerance(measured_err: f64, published_err: f64) -> f64 {
-    2.0 * (measured_err * measured_err + published_err * published_err).sqrt()
-}
-
 /// Sensitivity of alpha (fit of a spectrum) to the width of the excluded
 /// peak (`alpha_hw<w>` for the half-widths of
 /// [`crate::analysis::fit::default_sensitivity_widths`]) and to log-binning
@@ -324,7 +332,8 @@ pub fn alpha_sensitivity_metrics(p: &[f64], j_peak: usize) -> Result<Vec<(String
 pub const DISCREPANCY: &str =
     "known discrepancy of this rule reading, see EXPERIMENTS.md 'Known discrepancies'";
 
-/// A published value with its uncertainty: `(value, error)`.
+/// A published value with its agreement margin Delta: `(value, margin)`,
+/// graded by the equivalence rule of [`crate::analysis::grading`].
 pub type Published = (f64, f64);
 
 /// What a single-spectrum figure (PH94 Fig. 2, PH95 Fig. 6) runs and checks.
@@ -336,9 +345,9 @@ pub struct SpectrumFigure<'a> {
     pub paper: &'a str,
     /// The pipe.
     pub params: Params,
-    /// Published alpha and its uncertainty.
+    /// Published alpha and the margin Delta.
     pub alpha: Published,
-    /// Published peak velocity and its uncertainty, if any.
+    /// Published peak velocity and the margin Delta, if any.
     pub v_peak: Option<Published>,
     /// Note appended to every check (e.g. why a value is a known discrepancy).
     pub note: &'a str,
@@ -405,25 +414,33 @@ pub fn run_figure(
     for (name, value) in alpha_sensitivity_metrics(&ens.mean_spectrum, ens.j_peak)? {
         metrics.insert(name, value);
     }
-    let mut checks = vec![Check::new(
+    let source = |what: &str| format!("{} {what}", fig.paper);
+    let mut checks = vec![Check::published(
         "alpha",
-        ens.alpha,
-        ens.alpha_err,
-        Some(fig.alpha.0),
-        tolerance(ens.alpha_err, fig.alpha.1),
+        &source("alpha"),
+        ens.alpha_estimate(),
+        Claim::Within {
+            target: fig.alpha.0,
+            margin: fig.alpha.1,
+        },
         &format!(
-            "tolerance = 2 sqrt(SE_runs^2 + {}^2){}",
+            "mean of the per-run fitted alpha; margin Delta = {} fixed before measuring (MODEL.md A10){}",
             fig.alpha.1, fig.note
         ),
     )];
     if let Some(v) = fig.v_peak {
-        checks.push(Check::new(
+        checks.push(Check::published(
             "v_peak",
-            ens.v_peak,
-            ens.v_err,
-            Some(v.0),
-            tolerance(ens.v_err, v.1),
-            &format!("tolerance = 2 sqrt(SE_runs^2 + {}^2){}", v.1, fig.note),
+            &source("peak velocity"),
+            ens.v_estimate(),
+            Claim::Within {
+                target: v.0,
+                margin: v.1,
+            },
+            &format!(
+                "v of the peak of the averaged spectrum, SE of the per-run peaks; margin Delta = {}{}",
+                v.1, fig.note
+            ),
         ));
     }
     crate::run::mark_discrepancies(&mut checks, DISCREPANCY);

@@ -51,3 +51,16 @@ pub fn metric(s: &serde_json::Value, name: &str) -> f64 {
         .as_f64()
         .unwrap_or_else(|| panic!("metric {name} present"))
 }
+
+/// The verdict (`reproduced`, `not-reproduced`, `undecided`) of check `name`.
+pub fn verdict(s: &serde_json::Value, name: &str) -> String {
+    s["checks"]
+        .as_array()
+        .expect("checks")
+        .iter()
+        .find(|c| c["name"] == name)
+        .unwrap_or_else(|| panic!("check {name} present"))["verdict"]
+        .as_str()
+        .expect("verdict is a string")
+        .to_string()
+}

@@ -1,0 +1,118 @@
+//! `validate`: check another implementation of the pipe automaton against
+//! the reference engine (issue 12, VALIDATION.md). Writes
+//! `OUT/validate/report.md` and `report.json`; exits non-zero when the
+//! candidate fails.
+//!
+//! `cargo run --release --bin validate -- --candidate mutant:p+10% --level 1`
+
+use clap::Parser;
+use granular_automata::run::{progress, write_atomic, Output, Tier};
+use granular_automata::validate::{self, candidate_from, conformance, Level, Size};
+use std::path::PathBuf;
+
+/// Validate a candidate engine against the reference (VALIDATION.md).
+#[derive(Debug, Parser)]
+#[command(about = "Validate an implementation of the pipe automaton against the reference engine")]
+struct Args {
+    /// reference | mutant:NAME | cmd:'COMMAND' (external program, VALIDATION.md).
+    #[arg(long, default_value = "reference")]
+    candidate: String,
+    /// 1 (rule conformance), 2 (scenes) or all.
+    #[arg(long, value_enum, default_value_t = Level::All)]
+    level: Level,
+    /// quick (seconds) or standard (minutes); paper = standard.
+    #[arg(long, value_enum, default_value_t = Tier::Quick)]
+    tier: Tier,
+    /// Rule reading compared (names joined by '+').
+    #[arg(long, default_value = "default")]
+    rules: String,
+    /// Base seed of the reference's runs (the candidate's are disjoint).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Level-1 trials per (probe, state) (default: by tier).
+    #[arg(long)]
+    trials: Option<usize>,
+    /// Level-2 runs per engine per scene (default: by tier), 3..=10000.
+    #[arg(long)]
+    runs: Option<usize>,
+    /// Output folder; the report goes to OUT/validate/.
+    #[arg(long, default_value = "results")]
+    out: PathBuf,
+    /// Write the reference's exact level-1 table as JSON to this file and exit.
+    #[arg(long)]
+    export_table: Option<PathBuf>,
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = Args::parse();
+    let rules = args.rules.parse()?;
+    if let Some(path) = &args.export_table {
+        let base = granular_automata::pipe::Params::default();
+        let t = conformance::table(&base, rules)?;
+        let text = serde_json::to_string(&t)?;
+        write_atomic(path, text.as_bytes())?;
+        println!("wrote the exact level-1 table of `{rules}` to {}", path.display());
+        return Ok(());
+    }
+    let mut size = Size::for_tier(args.tier);
+    if let Some(t) = args.trials {
+        if !(1..=1_000_000).contains(&t) {
+            return Err(granular_automata::Error::out_of_range("--trials", t, "[1, 1000000]").into());
+        }
+        size.trials = t;
+    }
+    if let Some(r) = args.runs {
+        if !(3..=10_000).contains(&r) {
+            return Err(granular_automata::Error::out_of_range("--runs", r, "[3, 10000]").into());
+        }
+        size.runs = r;
+    }
+    let cand = candidate_from(&args.candidate)?;
+    let pb = progress(validate::jobs(args.level, args.tier, size), "validate");
+    let report = validate::validate(
+        cand.as_ref(),
+        &args.rules,
+        args.level,
+        args.tier,
+        size,
+        args.seed,
+        &|| pb.inc(1),
+    )?;
+    pb.finish_and_clear();
+    let out = Output::new(&args.out, "validate")?;
+    let md = validate::markdown(&report);
+    write_atomic(&out.path("report.md"), md.as_bytes())?;
+    write_atomic(
+        &out.path("report.json"),
+        serde_json::to_string_pretty(&report)?.as_bytes(),
+    )?;
+    if let Some(l) = &report.level1 {
+        println!(
+            "level 1: {} ({} differences in {} tests, {} trials per state)",
+            if l.pass { "PASS" } else { "FAIL" },
+            l.differences.len(),
+            l.tests,
+            l.trials
+        );
+    }
+    if let Some(l) = &report.level2 {
+        let n = l.comparisons.iter().filter(|c| c.differs).count();
+        println!(
+            "level 2: {} ({n} of {} observables differ, {} runs per engine)",
+            if l.pass { "PASS" } else { "FAIL" },
+            l.comparisons.len(),
+            l.runs
+        );
+    }
+    println!(
+        "{}: {} ({:.1} s); report in {}",
+        report.candidate,
+        if report.pass { "PASS" } else { "FAIL" },
+        report.wall_seconds,
+        out.dir().display()
+    );
+    if !report.pass {
+        std::process::exit(1);
+    }
+    Ok(())
+}

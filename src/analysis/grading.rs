@@ -1,0 +1,321 @@
+//! The one grading rule of the project (DEVELOPERS.md "Grading"): every
+//! check of every figure binary, the reproduction matrix and `validate`
+//! grade a claim with the functions here.
+//!
+//! A measurement is an [`Estimate`]: the mean of `n` independent runs and its
+//! standard error SE. Its half-width is `k SE` with the coverage factor
+//! k = max(2, t(0.975, n - 1)) ([`coverage_factor`]): the usual 2 SE for
+//! large n, Student's t quantile for small n (4.30 at n = 3). Fewer than
+//! [`MIN_RUNS`] runs never decide anything.
+//!
+//! - A numerical claim "the value is `target`" with a margin Delta fixed
+//!   before measuring ([`Claim::Within`], an equivalence test): reproduced
+//!   when |d| + k SE <= Delta, not reproduced when |d| - k SE > Delta,
+//!   otherwise undecided.
+//! - A qualitative claim "the statistic exceeds (falls below) a threshold"
+//!   fixed in advance ([`Claim::Above`], [`Claim::Below`]): reproduced when
+//!   the whole interval mean +- k SE lies on the claimed side, not reproduced
+//!   when it lies wholly on the other side, otherwise undecided.
+//!
+//! Neither rule has a tolerance that widens with SE: more noise can only move
+//! a verdict to undecided, never to reproduced.
+
+use super::stats::student_t_isf;
+use serde::{Deserialize, Serialize};
+
+/// Read a number that JSON wrote as `null` (a NaN, e.g. the SE of one run)
+/// back as NaN (`#[serde(deserialize_with = ...)]`).
+pub fn f64_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// Fewer independent runs than this leave every statistical claim undecided.
+pub const MIN_RUNS: usize = 3;
+
+/// The grade of one claim.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Verdict {
+    /// The measurement agrees with the claim beyond its error.
+    Reproduced,
+    /// The measurement contradicts the claim beyond its error.
+    NotReproduced,
+    /// The error is too large (or the runs too few) to decide.
+    Undecided,
+}
+
+impl Verdict {
+    /// The status name used in summary.json (`reproduced`, `not-reproduced`,
+    /// `undecided`).
+    pub fn status(self) -> &'static str {
+        match self {
+            Verdict::Reproduced => "reproduced",
+            Verdict::NotReproduced => "not-reproduced",
+            Verdict::Undecided => "undecided",
+        }
+    }
+
+    /// One-word label for tables (`yes`, `no`, `?`).
+    pub fn label(self) -> &'static str {
+        match self {
+            Verdict::Reproduced => "yes",
+            Verdict::NotReproduced => "no",
+            Verdict::Undecided => "?",
+        }
+    }
+
+    /// The verdict of the opposite claim (e.g. "no waves" from "waves").
+    pub fn negate(self) -> Verdict {
+        match self {
+            Verdict::Reproduced => Verdict::NotReproduced,
+            Verdict::NotReproduced => Verdict::Reproduced,
+            Verdict::Undecided => Verdict::Undecided,
+        }
+    }
+
+    /// `Reproduced` when `holds`, else `NotReproduced` (for exact identities).
+    pub fn of(holds: bool) -> Verdict {
+        if holds {
+            Verdict::Reproduced
+        } else {
+            Verdict::NotReproduced
+        }
+    }
+}
+
+/// What a check compares against (DEVELOPERS.md, output contract).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    /// Against a value or claim of the paper (named in the check's `source`).
+    Published,
+    /// Against this code's own earlier measurement: a regression guard, never
+    /// a validation.
+    Pinned,
+    /// An exact identity of the model, e.g. conservation of particles.
+    Identity,
+}
+
+impl Kind {
+    /// Lower-case name as written in summary.json.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Published => "published",
+            Kind::Pinned => "pinned",
+            Kind::Identity => "identity",
+        }
+    }
+}
+
+/// A measured value: the mean over `n` independent runs and its standard
+/// error (the spread over runs divided by sqrt(n)).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Estimate {
+    /// Mean over runs.
+    pub mean: f64,
+    /// Standard error of the mean.
+    pub se: f64,
+    /// Number of independent runs.
+    pub n: usize,
+}
+
+impl Estimate {
+    /// An estimate from its parts.
+    pub fn new(mean: f64, se: f64, n: usize) -> Self {
+        Estimate { mean, se, n }
+    }
+
+    /// An estimate from a `(mean, standard error)` pair over `n` runs.
+    pub fn from((mean, se): (f64, f64), n: usize) -> Self {
+        Estimate::new(mean, se, n)
+    }
+
+    /// Mean and standard error of the per-run values `xs` (n = xs.len();
+    /// SE = NaN for fewer than two values, so nothing is decided on it).
+    pub fn of(xs: &[f64]) -> Self {
+        let n = xs.len();
+        if n == 0 {
+            return Estimate::new(f64::NAN, f64::NAN, 0);
+        }
+        let m = xs.iter().sum::<f64>() / n as f64;
+        if n < 2 {
+            return Estimate::new(m, f64::NAN, n);
+        }
+        let var = xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n as f64 - 1.0);
+        Estimate::new(m, (var / n as f64).sqrt(), n)
+    }
+
+    /// The difference self - other of two independent estimates, SEs in
+    /// quadrature, n the smaller of the two.
+    pub fn minus(self, other: Estimate) -> Self {
+        Estimate::new(
+            self.mean - other.mean,
+            (self.se * self.se + other.se * other.se).sqrt(),
+            self.n.min(other.n),
+        )
+    }
+
+    /// The half-width k SE of the interval the grading uses, or `None` when
+    /// the estimate cannot decide (fewer than [`MIN_RUNS`] runs, or a
+    /// non-finite mean or SE).
+    pub fn half_width(&self) -> Option<f64> {
+        let k = coverage_factor(self.n)?;
+        (self.mean.is_finite() && self.se.is_finite() && self.se >= 0.0).then_some(k * self.se)
+    }
+}
+
+/// The coverage factor k = max(2, t(0.975, n - 1)) of an estimate over `n`
+/// runs, or `None` for n < [`MIN_RUNS`].
+pub fn coverage_factor(n: usize) -> Option<f64> {
+    if n < MIN_RUNS {
+        return None;
+    }
+    let t = student_t_isf(0.025, n - 1).expect("n - 1 >= 2 degrees of freedom");
+    Some(t.max(2.0))
+}
+
+/// A claim about one statistic, with its target or threshold fixed before
+/// measuring.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", tag = "test")]
+pub enum Claim {
+    /// The statistic equals `target` within `margin` (equivalence test).
+    Within {
+        /// The claimed value.
+        target: f64,
+        /// The agreement margin Delta, fixed before measuring.
+        margin: f64,
+    },
+    /// The statistic exceeds `threshold`.
+    Above {
+        /// The threshold, fixed before measuring.
+        threshold: f64,
+    },
+    /// The statistic falls below `threshold`.
+    Below {
+        /// The threshold, fixed before measuring.
+        threshold: f64,
+    },
+}
+
+impl Claim {
+    /// The rule in words, for notes and reports.
+    pub fn describe(&self) -> String {
+        match *self {
+            Claim::Within { target, margin } => format!(
+                "equivalence: reproduced if |x - {target}| + k SE <= {margin}, not if |x - {target}| - k SE > {margin}"
+            ),
+            Claim::Above { threshold } => format!(
+                "reproduced if x - k SE > {threshold}, not if x + k SE <= {threshold}"
+            ),
+            Claim::Below { threshold } => format!(
+                "reproduced if x + k SE < {threshold}, not if x - k SE >= {threshold}"
+            ),
+        }
+    }
+}
+
+/// Grade `est` against `claim` by the one rule (module docs).
+pub fn grade(est: Estimate, claim: Claim) -> Verdict {
+    let Some(h) = est.half_width() else {
+        return Verdict::Undecided;
+    };
+    let x = est.mean;
+    match claim {
+        Claim::Within { target, margin } => {
+            let d = (x - target).abs();
+            if d + h <= margin {
+                Verdict::Reproduced
+            } else if d - h > margin {
+                Verdict::NotReproduced
+            } else {
+                Verdict::Undecided
+            }
+        }
+        Claim::Above { threshold } => {
+            if x - h > threshold {
+                Verdict::Reproduced
+            } else if x + h <= threshold {
+                Verdict::NotReproduced
+            } else {
+                Verdict::Undecided
+            }
+        }
+        Claim::Below { threshold } => grade(
+            Estimate::new(-x, est.se, est.n),
+            Claim::Above {
+                threshold: -threshold,
+            },
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fewer_than_three_runs_never_decide() {
+        let within = Claim::Within {
+            target: 1.0,
+            margin: 0.1,
+        };
+        assert_eq!(grade(Estimate::new(1.0, 0.0, 1), within), Verdict::Undecided);
+        assert_eq!(grade(Estimate::new(1.0, 0.0, 2), within), Verdict::Undecided);
+        assert_eq!(grade(Estimate::new(1.0, 0.0, 3), within), Verdict::Reproduced);
+        assert_eq!(grade(Estimate::of(&[1.0]), within), Verdict::Undecided);
+        assert_eq!(grade(Estimate::of(&[]), within), Verdict::Undecided);
+        let nan = Estimate::new(f64::NAN, 0.1, 10);
+        assert_eq!(grade(nan, within), Verdict::Undecided);
+    }
+
+    #[test]
+    fn coverage_is_student_t_for_small_n_and_two_for_large() {
+        assert!((coverage_factor(3).unwrap() - 4.303).abs() < 1e-3);
+        assert!((coverage_factor(8).unwrap() - 2.365).abs() < 1e-3);
+        assert_eq!(coverage_factor(200).unwrap(), 2.0);
+        assert!(coverage_factor(2).is_none());
+    }
+
+    #[test]
+    fn equivalence_and_thresholds_follow_the_rule() {
+        let c = Claim::Within {
+            target: 1.33,
+            margin: 0.1,
+        };
+        // n = 100: k = 2
+        assert_eq!(grade(Estimate::new(1.30, 0.02, 100), c), Verdict::Reproduced);
+        assert_eq!(grade(Estimate::new(1.10, 0.02, 100), c), Verdict::NotReproduced);
+        assert_eq!(grade(Estimate::new(1.10, 0.2, 100), c), Verdict::Undecided);
+        // more noise never grades better
+        assert_eq!(grade(Estimate::new(1.25, 0.005, 100), c), Verdict::Reproduced);
+        assert_eq!(grade(Estimate::new(1.25, 0.04, 100), c), Verdict::Undecided);
+        assert_eq!(grade(Estimate::new(1.25, 0.08, 100), c), Verdict::Undecided);
+        // small n widens the interval: 1.30 +- 0.02 at n = 3 (k = 4.3)
+        assert_eq!(grade(Estimate::new(1.30, 0.02, 3), c), Verdict::Undecided);
+
+        let up = Claim::Above { threshold: 2.0 };
+        assert_eq!(grade(Estimate::new(10.0, 1.0, 50), up), Verdict::Reproduced);
+        assert_eq!(grade(Estimate::new(1.0, 0.2, 50), up), Verdict::NotReproduced);
+        assert_eq!(grade(Estimate::new(3.0, 1.0, 50), up), Verdict::Undecided);
+        let down = Claim::Below { threshold: 2.0 };
+        assert_eq!(grade(Estimate::new(1.0, 0.2, 50), down), Verdict::Reproduced);
+        assert_eq!(grade(Estimate::new(10.0, 1.0, 50), down), Verdict::NotReproduced);
+        assert_eq!(grade(Estimate::new(3.0, 1.0, 50), down), Verdict::Undecided);
+    }
+
+    #[test]
+    fn estimates_of_runs() {
+        let e = Estimate::of(&[1.0, 2.0, 3.0]);
+        assert_eq!((e.mean, e.n), (2.0, 3));
+        assert!((e.se - (1.0f64 / 3.0).sqrt()).abs() < 1e-12);
+        let d = Estimate::new(3.0, 3.0, 5).minus(Estimate::new(1.0, 4.0, 4));
+        assert_eq!((d.mean, d.se, d.n), (2.0, 5.0, 4));
+        assert_eq!(Verdict::Reproduced.negate(), Verdict::NotReproduced);
+        assert_eq!(
+            serde_json::to_string(&Verdict::NotReproduced).unwrap(),
+            "\"not-reproduced\""
+        );
+        assert_eq!(serde_json::to_string(&Kind::Pinned).unwrap(), "\"pinned\"");
+    }
+}

@@ -1,0 +1,81 @@
+//! The engine contract of the pipe lattice gas (issue 12): what any
+//! implementation of the automaton offers, so that `validate` can check it
+//! against the reference engine [`super::Pipe`].
+//!
+//! An engine is built from (parameters, rules, seed), steps, and reads the
+//! state and the observables the figures need. A run must be a pure function
+//! of (parameters, rules, seed, engine). Engines outside Rust follow the
+//! external-program contract of VALIDATION.md instead
+//! (`crate::validate::external`).
+
+use super::draws::Draws;
+use super::{Flux, Params, Pipe, Rules};
+use crate::error::Result;
+
+/// One implementation of the pipe automaton (MODEL.md Part A).
+pub trait PipeEngine: Send {
+    /// The parameters of this run.
+    fn params(&self) -> &Params;
+    /// One time step (MODEL.md A2).
+    fn step(&mut self) -> Result<()>;
+    /// Steps done so far.
+    fn time(&self) -> u64;
+    /// The state byte of site (x, y): bit c = channel c (MODEL.md A1).
+    fn site(&self, x: usize, y: usize) -> u8;
+    /// Set the state byte of site (x, y) (prepared states, level-1 probes).
+    fn set_site(&mut self, x: usize, y: usize, state: u8);
+    /// Bin densities n_i (MODEL.md A9) into `out` (length K = L / bin).
+    fn fill_bin_counts(&self, out: &mut [f64]);
+    /// Number of particles in each channel 0..=6.
+    fn channel_counts(&self) -> [u64; 7];
+    /// Injection and outflow counters (open pipe, MODEL.md A7).
+    fn flux(&self) -> Flux;
+}
+
+impl<D: Draws + Send> PipeEngine for Pipe<D> {
+    fn params(&self) -> &Params {
+        Pipe::params(self)
+    }
+    fn step(&mut self) -> Result<()> {
+        Pipe::step(self)
+    }
+    fn time(&self) -> u64 {
+        Pipe::time(self)
+    }
+    fn site(&self, x: usize, y: usize) -> u8 {
+        Pipe::site(self, x, y)
+    }
+    fn set_site(&mut self, x: usize, y: usize, state: u8) {
+        Pipe::set_site(self, x, y, state)
+    }
+    fn fill_bin_counts(&self, out: &mut [f64]) {
+        Pipe::fill_bin_counts(self, out)
+    }
+    fn channel_counts(&self) -> [u64; 7] {
+        Pipe::channel_counts(self)
+    }
+    fn flux(&self) -> Flux {
+        Pipe::flux(self)
+    }
+}
+
+/// Builds runs of one engine: what `validate` and the figures are given.
+pub trait EngineBuilder: Sync + Send {
+    /// Name of the engine (e.g. `reference`, `mutant:p+10%`).
+    fn name(&self) -> String;
+    /// A new run (validated parameters; the initial state of MODEL.md A8).
+    fn build(&self, params: Params, rules: Rules, seed: u64) -> Result<Box<dyn PipeEngine>>;
+}
+
+/// The reference engine, [`Pipe`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Reference;
+
+impl EngineBuilder for Reference {
+    fn name(&self) -> String {
+        "reference".into()
+    }
+    fn build(&self, params: Params, rules: Rules, seed: u64) -> Result<Box<dyn PipeEngine>> {
+        Ok(Box::new(Pipe::new(params, rules, seed)?))
+    }
+}

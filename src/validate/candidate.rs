@@ -1,0 +1,237 @@
+//! Candidates of `validate`: anything that runs the pipe automaton from a
+//! [`RunPlan`] and returns [`Sample`]s. Rust engines go through the
+//! [`EngineBuilder`] contract ([`Builtin`]); engines in any language through
+//! the external-program contract of VALIDATION.md ([`External`]).
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::pipe::engine::{EngineBuilder, PipeEngine};
+use crate::pipe::{Flux, Params, Rules};
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+/// What a candidate runs: one run of the automaton and what to record.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RunPlan {
+    /// The pipe (MODEL.md A8).
+    pub params: Params,
+    /// The rule reading, as its name (e.g. `default`).
+    pub rules: String,
+    /// The seed of the run.
+    pub seed: u64,
+    /// Steps to run.
+    pub steps: u64,
+    /// A sample after every `every` steps (t = every, 2 every, ...).
+    pub every: u64,
+    /// If given: the pipe is emptied and these sites (x, y, state byte) set
+    /// before the first step, instead of the random start.
+    pub init: Option<Vec<(usize, usize, u8)>>,
+    /// Whether each sample lists the occupied sites.
+    pub sites: bool,
+}
+
+/// One sample of a run, after `t` steps (one NDJSON line of the external
+/// contract).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sample {
+    /// Steps done.
+    pub t: u64,
+    /// Bin densities n_i (MODEL.md A9).
+    pub bins: Vec<f64>,
+    /// Particles in each channel 0..=6.
+    pub channels: [u64; 7],
+    /// Injected, out at the bottom, out at the top, so far.
+    pub flux: [u64; 3],
+    /// Occupied sites (x, y, state byte), when the plan asks for them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sites: Option<Vec<(usize, usize, u8)>>,
+}
+
+/// An implementation of the automaton under test.
+pub trait Candidate: Sync {
+    /// Name for reports (`reference`, `mutant:NAME`, `cmd:...`).
+    fn name(&self) -> String;
+    /// Run `plan` and return its samples in time order.
+    fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>>;
+}
+
+/// A Rust engine behind the [`EngineBuilder`] contract.
+pub struct Builtin<B>(pub B);
+
+impl<B: EngineBuilder> Candidate for Builtin<B> {
+    fn name(&self) -> String {
+        self.0.name()
+    }
+
+    fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>> {
+        check_plan(plan)?;
+        let rules: Rules = plan.rules.parse()?;
+        let mut e = self.0.build(plan.params, rules, plan.seed)?;
+        if let Some(init) = &plan.init {
+            prepare(e.as_mut(), init)?;
+        }
+        let mut out = Vec::with_capacity((plan.steps / plan.every) as usize);
+        let mut bins = vec![0.0; plan.params.bins()];
+        for t in 1..=plan.steps {
+            e.step()?;
+            if t % plan.every == 0 {
+                e.fill_bin_counts(&mut bins);
+                out.push(sample(e.as_ref(), t, &bins, plan.sites));
+            }
+        }
+        Ok(out)
+    }
+}
+
+fn check_plan(plan: &RunPlan) -> Result<()> {
+    plan.params.validate()?;
+    if plan.every == 0 {
+        return Err(Error::out_of_range("sampling interval every", 0, "[1, steps]"));
+    }
+    Ok(())
+}
+
+/// Empty the pipe and set the sites of `init` (coordinates checked).
+pub fn prepare(e: &mut dyn PipeEngine, init: &[(usize, usize, u8)]) -> Result<()> {
+    let (w, l) = (e.params().width, e.params().length);
+    for x in 0..w {
+        for y in 0..l {
+            e.set_site(x, y, 0);
+        }
+    }
+    for &(x, y, s) in init {
+        if x >= w || y >= l || s > 0x7f {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!("init site ({x}, {y}) state {s}: outside the {w} x {l} pipe or not a 7-bit state"),
+            ));
+        }
+        e.set_site(x, y, s);
+    }
+    Ok(())
+}
+
+fn sample(e: &dyn PipeEngine, t: u64, bins: &[f64], with_sites: bool) -> Sample {
+    let Flux {
+        injected,
+        out_bottom,
+        out_top,
+    } = e.flux();
+    let sites = with_sites.then(|| {
+        let p = e.params();
+        let mut v = Vec::new();
+        for x in 0..p.width {
+            for y in 0..p.length {
+                let s = e.site(x, y);
+                if s != 0 {
+                    v.push((x, y, s));
+                }
+            }
+        }
+        v
+    });
+    Sample {
+        t,
+        bins: bins.to_vec(),
+        channels: e.channel_counts(),
+        flux: [injected, out_bottom, out_top],
+        sites,
+    }
+}
+
+/// An engine in another program (VALIDATION.md): started once per run as
+/// `sh -c '<command> "$@"' run --plan <json>`, it prints one [`Sample`] per
+/// line (NDJSON) on stdout and exits 0.
+#[derive(Debug, Clone)]
+pub struct External {
+    /// The command line (run by `sh -c`, arguments appended).
+    pub command: String,
+}
+
+impl Candidate for External {
+    fn name(&self) -> String {
+        format!("cmd:{}", self.command)
+    }
+
+    fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>> {
+        check_plan(plan)?;
+        let json = serde_json::to_string(plan).expect("a plan serialises");
+        let mut child = Command::new("sh")
+            .arg("-c")
+            .arg(format!("{} \"$@\"", self.command))
+            .arg("sh")
+            .arg("run")
+            .arg("--plan")
+            .arg("-")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .map_err(|e| external_error(&self.command, &format!("cannot start: {e}")))?;
+        child
+            .stdin
+            .take()
+            .expect("stdin is piped")
+            .write_all(json.as_bytes())
+            .map_err(|e| external_error(&self.command, &format!("cannot send the plan: {e}")))?;
+        let out = child
+            .wait_with_output()
+            .map_err(|e| external_error(&self.command, &format!("did not finish: {e}")))?;
+        if !out.status.success() {
+            let err = String::from_utf8_lossy(&out.stderr);
+            return Err(external_error(
+                &self.command,
+                &format!("exited with {}: {}", out.status, err.trim()),
+            ));
+        }
+        let text = String::from_utf8_lossy(&out.stdout);
+        let samples: Vec<Sample> = text
+            .lines()
+            .filter(|l| !l.trim().is_empty())
+            .enumerate()
+            .map(|(i, l)| {
+                serde_json::from_str(l).map_err(|e| {
+                    external_error(&self.command, &format!("line {} is not a sample: {e}", i + 1))
+                })
+            })
+            .collect::<Result<_>>()?;
+        let want = plan.steps / plan.every;
+        if samples.len() as u64 != want {
+            return Err(external_error(
+                &self.command,
+                &format!("printed {} samples, the plan asks for {want}", samples.len()),
+            ));
+        }
+        Ok(samples)
+    }
+}
+
+fn external_error(cmd: &str, what: &str) -> Error {
+    Error::new(
+        ErrorKind::Io,
+        format!("external candidate `{cmd}` {what} (see VALIDATION.md for the contract)"),
+    )
+}
+
+/// The external side of the contract for a Rust engine: read a [`RunPlan`]
+/// as JSON from `input`, run it with `builder`, write NDJSON samples to
+/// `output` (what `validate-example` does with the reference).
+pub fn serve<B: EngineBuilder>(
+    builder: B,
+    input: &mut dyn std::io::Read,
+    output: &mut dyn Write,
+) -> Result<()> {
+    let mut text = String::new();
+    input.read_to_string(&mut text)?;
+    let plan: RunPlan = serde_json::from_str(&text).map_err(|e| {
+        Error::new(
+            ErrorKind::InvalidParameter,
+            format!("the plan is not valid JSON of a RunPlan: {e}"),
+        )
+    })?;
+    for s in Builtin(builder).run(&plan)? {
+        let line = serde_json::to_string(&s).expect("a sample serialises");
+        writeln!(output, "{line}")?;
+    }
+    Ok(())
+}

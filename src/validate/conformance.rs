@@ -1,0 +1,446 @@
+//! Level 1 of `validate`: rule conformance (issue 12). For every state of a
+//! site alone in an otherwise empty pipe, the reference engine's exact
+//! one-step outcome distribution (enumerated over every branch of every
+//! draw, [`crate::pipe::draws::Enumerator`]), at the interior, both walls,
+//! W = 1 and W = 2, and both ends of the open pipe; and a probe that
+//! measures a candidate's outcome frequencies on the same isolated sites and
+//! compares them with the table by exact binomial tests.
+//!
+//! An outcome is the set of particles after the step, each as (x, y - y0,
+//! channel) relative to the probe site (x0, y0), and the change of the flux
+//! counters. In the periodic probes many probe sites, 5 rows apart, share
+//! one pipe: in one step a particle moves at most 2 rows (relocation to a
+//! neighbour, then a fall), so the sites do not interact.
+
+use super::candidate::{Candidate, RunPlan};
+use crate::error::{Error, ErrorKind, Result};
+use crate::pipe::draws::Enumerator;
+use crate::pipe::{Boundary, Params, Pipe, Rules};
+use crate::run::derive_seed;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Rows per probe block in the periodic probes (the probe site is row 2).
+pub const BLOCK: usize = 5;
+/// Row of the probe site inside its block.
+const Y0: usize = 2;
+
+/// Where a probe site sits.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Probe {
+    /// Name, e.g. `interior-even`.
+    pub name: &'static str,
+    /// Pipe width W.
+    pub width: usize,
+    /// Column of the probe site.
+    pub x: usize,
+    /// Open pipe of 5 rows without injection (else periodic).
+    pub open: bool,
+    /// In the open pipe: the probe site is the top row (else the bottom).
+    pub top: bool,
+}
+
+/// The probes: interior (even and odd column), both walls (even and odd
+/// right-wall column), W = 1, W = 2, and the two ends of the open pipe (W =
+/// 3, middle column, no injection: the exits; the injection is compared at
+/// level 2).
+pub fn probes() -> Vec<Probe> {
+    let per = |name, width, x| Probe {
+        name,
+        width,
+        x,
+        open: false,
+        top: false,
+    };
+    let open = |name, top| Probe {
+        name,
+        width: OPEN_WIDTH,
+        x: 1,
+        open: true,
+        top,
+    };
+    vec![
+        per("interior-even", 5, 2),
+        per("interior-odd", 5, 1),
+        per("left-wall", 5, 0),
+        per("right-wall-even", 5, 4),
+        per("right-wall-odd", 6, 5),
+        per("w1", 1, 0),
+        per("w2-left", 2, 0),
+        per("w2-right", 2, 1),
+        open("open-bottom", false),
+        open("open-top", true),
+    ]
+}
+
+/// Columns per probe block of the open probes.
+const OPEN_WIDTH: usize = 3;
+
+impl Probe {
+    /// The pipe of `blocks` probe sites: stacked along the pipe (periodic,
+    /// 5 rows each) or across it (open, 3 columns each, the probe in the
+    /// middle column; a particle moves at most one column in a step).
+    fn params(&self, base: &Params, blocks: usize) -> Params {
+        let (width, length, boundary) = if self.open {
+            (OPEN_WIDTH * blocks, BLOCK, Boundary::Open { inject: 0.0 })
+        } else {
+            (self.width, BLOCK * blocks, Boundary::Periodic)
+        };
+        Params {
+            width,
+            length,
+            bin: BLOCK,
+            boundary,
+            ..*base
+        }
+    }
+
+    /// The probe site of block `k`.
+    fn site(&self, k: usize) -> (usize, usize) {
+        match (self.open, self.top) {
+            (false, _) => (self.x, BLOCK * k + Y0),
+            (true, false) => (OPEN_WIDTH * k + self.x, 0),
+            (true, true) => (OPEN_WIDTH * k + self.x, BLOCK - 1),
+        }
+    }
+
+    /// The block of an occupied site (x, y).
+    fn block(&self, x: usize, y: usize) -> usize {
+        if self.open {
+            x / OPEN_WIDTH
+        } else {
+            y / BLOCK
+        }
+    }
+
+    /// Shift a site of block `k` to block 0.
+    fn to_block0(&self, k: usize, (x, y, s): (usize, usize, u8)) -> (usize, usize, u8) {
+        if self.open {
+            (x - OPEN_WIDTH * k, y, s)
+        } else {
+            (x, y - BLOCK * k, s)
+        }
+    }
+}
+
+/// One outcome: particles (x, y - y0, channel), sorted, and the change of
+/// (injected, out at the bottom, out at the top).
+pub type Outcome = (Vec<(usize, i64, u8)>, [u64; 3]);
+
+fn key((parts, flux): &Outcome) -> String {
+    let p: Vec<String> = parts
+        .iter()
+        .map(|(x, dy, c)| format!("{x}:{dy}:{c}"))
+        .collect();
+    format!("{}|{}:{}:{}", p.join(","), flux[0], flux[1], flux[2])
+}
+
+/// The particles of `sites` as (x, y - y0, channel), sorted.
+fn particles(sites: &[(usize, usize, u8)], y0: usize) -> Vec<(usize, i64, u8)> {
+    let mut v = Vec::new();
+    for &(x, y, s) in sites {
+        for c in 0..7u8 {
+            if s & (1 << c) != 0 {
+                v.push((x, y as i64 - y0 as i64, c));
+            }
+        }
+    }
+    v.sort();
+    v
+}
+
+/// The exact distribution of one (probe, state): outcome key -> probability.
+pub fn exact(probe: &Probe, base: &Params, rules: Rules, state: u8) -> Result<BTreeMap<String, f64>> {
+    let params = probe.params(base, 1);
+    let (x0, y0) = probe.site(0);
+    let mut pipe = Pipe::new(params, rules, 1)?;
+    pipe.clear();
+    let mut e = Some(Enumerator::new());
+    let mut dist = BTreeMap::new();
+    loop {
+        let mut p = pipe.clone().with_draws(e.take().expect("enumerator"));
+        p.set_site(x0, y0, state);
+        p.step()?;
+        let mut sites = Vec::new();
+        for x in 0..params.width {
+            for y in 0..params.length {
+                let s = p.site(x, y);
+                if s != 0 {
+                    sites.push((x, y, s));
+                }
+            }
+        }
+        let f = p.flux();
+        let o: Outcome = (particles(&sites, y0), [f.injected, f.out_bottom, f.out_top]);
+        let mut en = p.into_draws();
+        let prob = en.probability();
+        if prob > 0.0 {
+            *dist.entry(key(&o)).or_insert(0.0) += prob;
+        }
+        if !en.advance() {
+            break;
+        }
+        e = Some(en);
+    }
+    Ok(dist)
+}
+
+/// The exported table (`validate --export-table`): every probe and state.
+#[derive(Debug, Clone, Serialize)]
+pub struct Table {
+    /// What the table is.
+    pub about: &'static str,
+    /// Parameters (W, L and the boundary are the probe's).
+    pub params: Params,
+    /// The rule reading.
+    pub rules: String,
+    /// Per probe: its geometry and, per state 0..128, the outcome keys and
+    /// their probabilities.
+    pub probes: Vec<TableProbe>,
+}
+
+/// One probe of the [`Table`].
+#[derive(Debug, Clone, Serialize)]
+pub struct TableProbe {
+    /// The probe.
+    pub probe: Probe,
+    /// Per state 0..128: outcome key -> probability.
+    pub states: Vec<BTreeMap<String, f64>>,
+}
+
+/// The whole exact table for `base` (p, g, b) and `rules`.
+pub fn table(base: &Params, rules: Rules) -> Result<Table> {
+    let probes = probes()
+        .into_iter()
+        .map(|probe| {
+            let states = (0..128u8)
+                .map(|s| exact(&probe, base, rules, s))
+                .collect::<Result<_>>()?;
+            Ok(TableProbe { probe, states })
+        })
+        .collect::<Result<_>>()?;
+    Ok(Table {
+        about: "exact one-step outcome distribution of a lone site (granular-automata validate, level 1); outcome key: particles x:dy:channel relative to the probe row, then |injected:out_bottom:out_top",
+        params: *base,
+        rules: rules.to_string(),
+        probes,
+    })
+}
+
+/// The measured outcome counts of a candidate: per probe, per state.
+pub fn measure(
+    cand: &dyn Candidate,
+    probe: &Probe,
+    base: &Params,
+    rules: &str,
+    state: u8,
+    trials: usize,
+    seed: u64,
+) -> Result<BTreeMap<String, u64>> {
+    let params = probe.params(base, trials);
+    let init: Vec<_> = (0..trials)
+        .map(|k| {
+            let (x, y) = probe.site(k);
+            (x, y, state)
+        })
+        .collect();
+    let plan = RunPlan {
+        params,
+        rules: rules.to_string(),
+        seed,
+        steps: 1,
+        every: 1,
+        init: Some(init),
+        sites: true,
+    };
+    let s = cand.run(&plan)?;
+    let mut per_block: Vec<Vec<(usize, usize, u8)>> = vec![Vec::new(); trials];
+    for &site in s[0].sites.as_deref().unwrap_or(&[]) {
+        let k = probe.block(site.0, site.1);
+        per_block[k].push(probe.to_block0(k, site));
+    }
+    // the flux of the open probes: per block, from the particles missing at
+    // the ends (no injection; a probe's particles leave only through its end)
+    let y0 = probe.site(0).1;
+    let mut counts = BTreeMap::new();
+    for b in &per_block {
+        let parts = particles(b, y0);
+        let flux = if probe.open {
+            let before = state.count_ones() as u64;
+            let lost = before.saturating_sub(parts.len() as u64);
+            if probe.top {
+                [0, 0, lost]
+            } else {
+                [0, lost, 0]
+            }
+        } else {
+            [0, 0, 0]
+        };
+        *counts.entry(key(&(parts, flux))).or_insert(0u64) += 1;
+    }
+    Ok(counts)
+}
+
+/// ln(n!) (Stirling series beyond a table of exact values).
+fn ln_factorial(n: u64) -> f64 {
+    if n < 32 {
+        return (1..=n).map(|k| (k as f64).ln()).sum();
+    }
+    let x = n as f64 + 1.0;
+    (x - 0.5) * x.ln() - x + 0.5 * (2.0 * std::f64::consts::PI).ln() + 1.0 / (12.0 * x)
+        - 1.0 / (360.0 * x.powi(3))
+        + 1.0 / (1260.0 * x.powi(5))
+}
+
+/// The exact two-sided binomial p-value of `k` successes in `n` trials of
+/// probability `q`: 2 min(P(X <= k), P(X >= k)), at most 1.
+pub fn binomial_two_sided(k: u64, n: u64, q: f64) -> f64 {
+    if q <= 0.0 {
+        return if k == 0 { 1.0 } else { 0.0 };
+    }
+    if q >= 1.0 {
+        return if k == n { 1.0 } else { 0.0 };
+    }
+    let (lq, lr) = (q.ln(), (1.0 - q).ln());
+    let lnf = ln_factorial(n);
+    let pmf = |x: u64| {
+        (lnf - ln_factorial(x) - ln_factorial(n - x) + x as f64 * lq + (n - x) as f64 * lr).exp()
+    };
+    let lower: f64 = (0..=k).map(pmf).sum();
+    let upper: f64 = (k..=n).map(pmf).sum();
+    (2.0 * lower.min(upper)).min(1.0)
+}
+
+/// One (probe, state, outcome) whose frequency differs from the table.
+#[derive(Debug, Clone, Serialize)]
+pub struct Difference {
+    /// Probe name.
+    pub probe: String,
+    /// The incoming state byte.
+    pub state: u8,
+    /// The outcome key.
+    pub outcome: String,
+    /// Its probability in the reference (0: impossible there).
+    pub expected: f64,
+    /// Its measured frequency.
+    pub observed: f64,
+    /// Trials.
+    pub trials: usize,
+    /// Exact two-sided binomial p-value.
+    pub p_value: f64,
+}
+
+/// The result of level 1.
+#[derive(Debug, Clone, Serialize)]
+pub struct Level1 {
+    /// Trials per (probe, state).
+    pub trials: usize,
+    /// Number of binomial tests (outcomes with 0 < q < 1).
+    pub tests: usize,
+    /// Family-wise false-alarm rate (Bonferroni over the tests; an outcome
+    /// the reference cannot produce fails without a test).
+    pub alpha: f64,
+    /// Every (probe, state, outcome) that differs.
+    pub differences: Vec<Difference>,
+    /// Whether the candidate conforms (no difference).
+    pub pass: bool,
+}
+
+/// Level 1: measure `cand` on every probe and state with `trials` trials and
+/// test every outcome's frequency against the exact table of the reference,
+/// at family-wise false-alarm rate `alpha`.
+pub fn level1(
+    cand: &dyn Candidate,
+    base: &Params,
+    rules: &str,
+    trials: usize,
+    seed: u64,
+    alpha: f64,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Level1> {
+    if trials == 0 {
+        return Err(Error::new(ErrorKind::InvalidParameter, "level 1 needs trials >= 1"));
+    }
+    let r: Rules = rules.parse()?;
+    let probes = probes();
+    let jobs: Vec<(usize, u8)> = (0..probes.len())
+        .flat_map(|p| (0..128u8).map(move |s| (p, s)))
+        .collect();
+    let results = crate::run::ensemble(jobs.len(), |j| {
+        let (pi, s) = jobs[j];
+        let probe = &probes[pi];
+        let ex = exact(probe, base, r, s)?;
+        let seed = derive_seed(seed, j as u64);
+        let obs = measure(cand, probe, base, rules, s, trials, seed)?;
+        tick();
+        Ok((pi, s, ex, obs))
+    });
+    let results: Vec<_> = results.into_iter().collect::<Result<_>>()?;
+    let tests: usize = results
+        .iter()
+        .map(|(_, _, ex, _)| ex.values().filter(|&&q| q < 1.0).count())
+        .sum();
+    let threshold = alpha / tests.max(1) as f64;
+    let mut differences = Vec::new();
+    for (pi, s, ex, obs) in &results {
+        let n = trials as u64;
+        let mut diff = |outcome: &str, q: f64, k: u64, pv: f64| {
+            differences.push(Difference {
+                probe: probes[*pi].name.to_string(),
+                state: *s,
+                outcome: outcome.to_string(),
+                expected: q,
+                observed: k as f64 / n as f64,
+                trials,
+                p_value: pv,
+            })
+        };
+        for (o, &k) in obs {
+            if !ex.contains_key(o) {
+                diff(o, 0.0, k, 0.0);
+            }
+        }
+        for (o, &q) in ex {
+            let k = obs.get(o).copied().unwrap_or(0);
+            let pv = binomial_two_sided(k, n, q);
+            if pv < threshold {
+                diff(o, q, k, pv);
+            }
+        }
+    }
+    Ok(Level1 {
+        trials,
+        tests,
+        alpha,
+        pass: differences.is_empty(),
+        differences,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn binomial_p_values() {
+        assert!((binomial_two_sided(5, 10, 0.5) - 1.0).abs() < 1e-12);
+        // P(X <= 1) for n = 10, q = 0.5 is 11/1024
+        assert!((binomial_two_sided(1, 10, 0.5) - 22.0 / 1024.0).abs() < 1e-12);
+        assert_eq!(binomial_two_sided(3, 10, 0.0), 0.0);
+        let big = binomial_two_sided(5000, 10000, 0.5);
+        assert!(big > 0.99, "{big}");
+        assert!(binomial_two_sided(4700, 10000, 0.5) < 1e-8);
+    }
+
+    #[test]
+    fn every_exact_distribution_sums_to_one_and_conserves_mass_inside() {
+        let base = Params::default();
+        for probe in probes() {
+            for s in [0u8, 0b0000_0011, 0b0100_1001, 0b0111_1111, 0b0001_0101] {
+                let d = exact(&probe, &base, Rules::default(), s).unwrap();
+                let total: f64 = d.values().sum();
+                assert!((total - 1.0).abs() < 1e-9, "{} {s}: {total}", probe.name);
+            }
+        }
+    }
+}

@@ -1,0 +1,155 @@
+//! The catalogue of mutant engines (issue 12): the reference engine with one
+//! plausible bug each. `validate` must fail every one of them; the power
+//! table of EXPERIMENTS.md says which level catches which, at what cost.
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::pipe::collision::{CollisionTable, Rule};
+use crate::pipe::draws::Draws;
+use crate::pipe::engine::{EngineBuilder, PipeEngine};
+use crate::pipe::{GravityWording, Params, Pipe, Rules};
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+/// One plausible bug.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mutant {
+    /// The dissipation p used is 10% too large (p -> min(1, 1.1 p)).
+    PPlus10,
+    /// The gravity probability g is 10% too large.
+    GPlus10,
+    /// The wall roughness b is 10% too large.
+    BPlus10,
+    /// The wall-reflection timing of the other reading (`wall-move` toggled).
+    WallTiming,
+    /// Gravity turns every mover, not only those colliding with a rest
+    /// particle (`any-mover` for `ph94`, `ph94` otherwise).
+    GravityEveryMover,
+    /// R1 always rotates to the same side (+60 degrees) instead of +-60 with
+    /// probability 1/2 each.
+    R1SameSide,
+    /// Extra rest particles of R4/R5 are dropped instead of relocated.
+    ExtrasDropped,
+    /// The random stream has lost its top bit (a signed/unsigned slip): every
+    /// probability q is used as min(1, 2q).
+    BiasedStream,
+}
+
+/// Every mutant with its name, as `--candidate mutant:NAME` takes it.
+pub const MUTANTS: [(&str, Mutant); 8] = [
+    ("p+10%", Mutant::PPlus10),
+    ("g+10%", Mutant::GPlus10),
+    ("b+10%", Mutant::BPlus10),
+    ("wall-timing", Mutant::WallTiming),
+    ("gravity-every-mover", Mutant::GravityEveryMover),
+    ("r1-same-side", Mutant::R1SameSide),
+    ("extras-dropped", Mutant::ExtrasDropped),
+    ("biased-stream", Mutant::BiasedStream),
+];
+
+impl std::str::FromStr for Mutant {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        MUTANTS
+            .iter()
+            .find(|(n, _)| *n == s)
+            .map(|&(_, m)| m)
+            .ok_or_else(|| {
+                let names: Vec<&str> = MUTANTS.iter().map(|(n, _)| *n).collect();
+                Error::new(
+                    ErrorKind::InvalidParameter,
+                    format!("unknown mutant `{s}`; the mutants are: {}", names.join(", ")),
+                )
+            })
+    }
+}
+
+impl Mutant {
+    /// Its name in [`MUTANTS`].
+    pub fn name(self) -> &'static str {
+        MUTANTS
+            .iter()
+            .find(|(_, m)| *m == self)
+            .map(|(n, _)| *n)
+            .expect("every mutant is listed")
+    }
+}
+
+/// The draws of [`Mutant::BiasedStream`]: every 32-bit draw shifted right
+/// by one bit.
+#[derive(Debug, Clone)]
+pub struct TopBitLost(Xoshiro256PlusPlus);
+
+impl Draws for TopBitLost {
+    fn chance(&mut self, t: u64) -> bool {
+        if t == 0 {
+            false
+        } else if t >= 1 << 32 {
+            true
+        } else {
+            ((self.0.next_u32() >> 1) as u64) < t
+        }
+    }
+    fn pick(&mut self, cumulative: &[u64]) -> usize {
+        let u = (self.0.next_u32() >> 1) as u64;
+        cumulative
+            .iter()
+            .position(|&c| u < c)
+            .unwrap_or(cumulative.len() - 1)
+    }
+    fn coin(&mut self) -> bool {
+        self.0.next_u32() >> 31 == 1
+    }
+    fn below(&mut self, n: u32) -> u32 {
+        Draws::below(&mut self.0, n)
+    }
+}
+
+fn plus10(q: f64) -> f64 {
+    (1.1 * q).min(1.0)
+}
+
+impl EngineBuilder for Mutant {
+    fn name(&self) -> String {
+        format!("mutant:{}", Mutant::name(*self))
+    }
+
+    fn build(&self, params: Params, rules: Rules, seed: u64) -> Result<Box<dyn PipeEngine>> {
+        let (mut params, mut rules) = (params, rules);
+        match self {
+            Mutant::PPlus10 => params.p = plus10(params.p),
+            Mutant::GPlus10 => params.g = plus10(params.g),
+            Mutant::BPlus10 => params.b = plus10(params.b),
+            Mutant::WallTiming => rules.wall_move = !rules.wall_move,
+            Mutant::GravityEveryMover => {
+                rules.gravity = match rules.gravity {
+                    GravityWording::Ph94 => GravityWording::AnyMover,
+                    _ => GravityWording::Ph94,
+                }
+            }
+            _ => {}
+        }
+        let mut pipe = Pipe::new(params, rules, seed)?;
+        match self {
+            Mutant::R1SameSide | Mutant::ExtrasDropped => {
+                let mut table = CollisionTable::new(params.p);
+                for e in &mut table.entries {
+                    if *self == Mutant::R1SameSide && e.rule == Rule::R1 {
+                        e.outcomes.truncate(1);
+                        e.outcomes[0].prob = 1.0;
+                        e.cumulative = vec![1 << 32];
+                    }
+                    if *self == Mutant::ExtrasDropped {
+                        e.outcomes.iter_mut().for_each(|o| o.extra = 0);
+                    }
+                }
+                pipe.replace_collision_table(table);
+                Ok(Box::new(pipe))
+            }
+            Mutant::BiasedStream => {
+                let draws = TopBitLost(Xoshiro256PlusPlus::seed_from_u64(seed ^ 0xB1A5));
+                Ok(Box::new(pipe.with_draws(draws)))
+            }
+            _ => Ok(Box::new(pipe)),
+        }
+    }
+}

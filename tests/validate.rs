@@ -1,0 +1,113 @@
+//! Acceptance tests of `validate` (issue 12, VALIDATION.md) at the quick
+//! tier: the reference passes both levels, every mutant of the catalogue
+//! fails, the external example passes through the external-program
+//! contract, and the exact table is right where it can be worked out by hand.
+//! The false-alarm rate and power are measured in EXPERIMENTS.md
+//! ("validate"), not here.
+
+use granular_automata::pipe::{Params, Rules};
+use granular_automata::run::Tier;
+use granular_automata::validate::candidate::Builtin;
+use granular_automata::validate::conformance::{exact, probes};
+use granular_automata::validate::mutants::MUTANTS;
+use granular_automata::validate::{validate, Level, Size};
+use std::path::PathBuf;
+use std::process::Command;
+
+fn out(tag: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("validate-{tag}"));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn report(dir: &std::path::Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("validate/report.json")).expect("report.json");
+    serde_json::from_str(&text).expect("report parses")
+}
+
+#[test]
+fn the_reference_passes_both_levels() {
+    let dir = out("reference");
+    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
+        .args(["--candidate", "reference", "--level", "all", "--tier", "quick"])
+        .arg("--out")
+        .arg(&dir)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let r = report(&dir);
+    assert_eq!(r["pass"], true);
+    assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
+    assert!(dir.join("validate/report.md").exists());
+}
+
+#[test]
+fn every_mutant_fails_level_1() {
+    let size = Size::for_tier(Tier::Quick);
+    for (name, m) in MUTANTS {
+        let r = validate(&Builtin(m), "default", Level::One, Tier::Quick, size, 3, &|| {}).unwrap();
+        let l = r.level1.unwrap();
+        assert!(!r.pass, "mutant {name} passed level 1");
+        assert!(!l.differences.is_empty(), "{name}");
+    }
+}
+
+#[test]
+fn a_failing_candidate_exits_non_zero_and_says_why() {
+    let dir = out("mutant");
+    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
+        .args(["--candidate", "mutant:r1-same-side", "--level", "1"])
+        .arg("--out")
+        .arg(&dir)
+        .status()
+        .unwrap();
+    assert_eq!(status.code(), Some(1));
+    let md = std::fs::read_to_string(dir.join("validate/report.md")).unwrap();
+    assert!(md.contains("FAIL") && md.contains("interior"), "{md}");
+    // a wrong candidate name is a usage error naming the mutants
+    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
+        .args(["--candidate", "mutant:nope"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("biased-stream"));
+}
+
+#[test]
+fn the_external_example_passes_through_the_contract() {
+    let dir = out("external");
+    let cmd = format!("cmd:{}", env!("CARGO_BIN_EXE_validate-example"));
+    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
+        .args(["--candidate", &cmd, "--level", "all", "--trials", "1000", "--runs", "4"])
+        .arg("--out")
+        .arg(&dir)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    assert_eq!(report(&dir)["pass"], true);
+}
+
+#[test]
+fn exact_table_matches_hand_calculation() {
+    let base = Params::default();
+    let rules = Rules::default();
+    let interior = probes()[0];
+    assert_eq!(interior.name, "interior-even");
+    // a lone up-mover (channel 1) moves one row up, with certainty
+    let d = exact(&interior, &base, rules, 0b0000_0010).unwrap();
+    assert_eq!(d.len(), 1);
+    assert_eq!(d["2:1:1|0:0:0"], 1.0);
+    // a head-on pair {1, 4} (R1, no rest particle: no gravity in ph94)
+    // turns +-60 degrees with probability 1/2 each
+    let d = exact(&interior, &base, rules, 0b0001_0010).unwrap();
+    assert_eq!(d.len(), 2, "{d:?}");
+    assert!(d.values().all(|&q| (q - 0.5).abs() < 1e-12), "{d:?}");
+    // a lone rest particle falls (0 -> 4) with probability g, then moves down
+    let d = exact(&interior, &base, rules, 0b0000_0001).unwrap();
+    assert!((d["2:-1:4|0:0:0"] - 0.5).abs() < 1e-9, "{d:?}");
+    assert!((d["2:0:0|0:0:0"] - 0.5).abs() < 1e-9, "{d:?}");
+    // the open bottom: a lone down-mover leaves the pipe
+    let bottom = probes().into_iter().find(|p| p.name == "open-bottom").unwrap();
+    let d = exact(&bottom, &base, rules, 0b0001_0000).unwrap();
+    assert_eq!(d["|0:1:0"], 1.0, "{d:?}");
+}
