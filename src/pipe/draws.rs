@@ -15,6 +15,9 @@
 use rand::{Rng, RngExt};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
+/// Path probability below which [`Enumerator`] stops branching.
+pub const CUTOFF: f64 = 1e-14;
+
 /// 2^32, the scale of the 32-bit thresholds.
 const SCALE: f64 = 4_294_967_296.0;
 
@@ -104,15 +107,26 @@ impl Enumerator {
     }
 
     /// Take the next branch among `probs` (the probability of each branch).
+    /// Below a path probability of [`CUTOFF`] the siblings are no longer
+    /// explored: the path takes branch `pos mod n` with weight 1 (it carries
+    /// its whole remaining mass), so that unbounded computations (a
+    /// relocation walk that keeps hitting full sites) end; the mass moved is
+    /// below CUTOFF per truncated path.
     fn branch(&mut self, probs: &[f64]) -> usize {
+        let here: f64 = self.weights[..self.pos.min(self.weights.len())].iter().product();
+        let truncated = here < CUTOFF;
         let k = if self.pos < self.path.len() {
             self.path[self.pos].0
+        } else if truncated {
+            let k = self.pos % probs.len();
+            self.path.push((k, 1));
+            k
         } else {
             self.path.push((0, probs.len()));
             0
         };
         self.weights.truncate(self.pos);
-        self.weights.push(probs[k]);
+        self.weights.push(if truncated { 1.0 } else { probs[k] });
         self.pos += 1;
         k
     }
