@@ -41,6 +41,12 @@ struct Args {
     /// Write the reference's exact level-1 table as JSON to this file and exit.
     #[arg(long)]
     export_table: Option<PathBuf>,
+    /// Calibration: repeat the validation with base seeds seed, seed+1, ...,
+    /// seed+N-1 (fresh seed sets for both engines each time), 1..=10000, and
+    /// count the failures (false-alarm rate for `reference`, power for a
+    /// mutant). Writes OUT/validate/repeat-CANDIDATE.csv and resumes from it.
+    #[arg(long)]
+    repeat: Option<usize>,
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -68,6 +74,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         size.runs = r;
     }
     let cand = candidate_from(&args.candidate)?;
+    if let Some(n) = args.repeat {
+        if !(1..=10_000).contains(&n) {
+            return Err(granular_automata::Error::out_of_range("--repeat", n, "[1, 10000]").into());
+        }
+        return repeat(&args, cand.as_ref(), size, n);
+    }
     let pb = progress(validate::jobs(args.level, args.tier, size), "validate");
     let report = validate::validate(
         cand.as_ref(),
@@ -114,5 +126,79 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if !report.pass {
         std::process::exit(1);
     }
+    Ok(())
+}
+
+/// `--repeat N`: N validations on fresh seed sets, one CSV row each (saved
+/// as it goes; a rerun skips the seeds already in the file).
+fn repeat(
+    args: &Args,
+    cand: &dyn validate::candidate::Candidate,
+    size: Size,
+    n: usize,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let out = Output::new(&args.out, "validate")?;
+    let safe: String = args
+        .candidate
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' })
+        .collect();
+    let path = out.path(&format!("repeat-{safe}.csv"));
+    let config = format!(
+        "# candidate={} level={:?} tier={:?} rules={} trials={} runs={}",
+        args.candidate, args.level, args.tier, args.rules, size.trials, size.runs
+    );
+    let header = "seed,pass,level1_pass,level1_differences,level2_pass,level2_differing,wall_seconds";
+    let mut text = match std::fs::read_to_string(&path) {
+        Ok(t) if t.lines().next() == Some(config.as_str()) => t,
+        _ => format!("{config}\n{header}\n"),
+    };
+    let done: std::collections::BTreeSet<u64> = text
+        .lines()
+        .skip(2)
+        .filter_map(|l| l.split(',').next()?.parse().ok())
+        .collect();
+    let pb = progress(n as u64, "repeat");
+    for seed in args.seed..args.seed + n as u64 {
+        if !done.contains(&seed) {
+            let r = validate::validate(cand, &args.rules, args.level, args.tier, size, seed, &|| {})?;
+            let l1 = r.level1.as_ref();
+            let l2 = r.level2.as_ref();
+            let opt = |b: Option<bool>| b.map_or(String::new(), |b| b.to_string());
+            text.push_str(&format!(
+                "{seed},{},{},{},{},{},{:.2}\n",
+                r.pass,
+                opt(l1.map(|l| l.pass)),
+                l1.map_or(String::new(), |l| l.differences.len().to_string()),
+                opt(l2.map(|l| l.pass)),
+                l2.map_or(String::new(), |l| {
+                    l.comparisons.iter().filter(|c| c.differs).count().to_string()
+                }),
+                r.wall_seconds
+            ));
+            write_atomic(&path, text.as_bytes())?;
+        }
+        pb.inc(1);
+    }
+    pb.finish_and_clear();
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .skip(2)
+        .map(|l| l.split(',').collect())
+        .filter(|r: &Vec<&str>| {
+            r[0].parse::<u64>()
+                .is_ok_and(|s| (args.seed..args.seed + n as u64).contains(&s))
+        })
+        .collect();
+    let count = |col: usize| rows.iter().filter(|r| r[col] == "false").count();
+    println!(
+        "{}: failed {} of {} validations (level 1: {}, level 2: {}); rows in {}",
+        args.candidate,
+        count(1),
+        rows.len(),
+        count(2),
+        count(4),
+        path.display()
+    );
     Ok(())
 }

@@ -16,7 +16,7 @@ use rand::{Rng, RngExt};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// Path probability below which [`Enumerator`] stops branching.
-pub const CUTOFF: f64 = 1e-14;
+pub const CUTOFF: f64 = 1e-10;
 
 /// 2^32, the scale of the 32-bit thresholds.
 const SCALE: f64 = 4_294_967_296.0;
@@ -70,36 +70,60 @@ impl Draws for Xoshiro256PlusPlus {
 /// Enumerates every sequence of draw outcomes of a computation, depth first:
 /// run the computation, read [`Enumerator::probability`], then call
 /// [`Enumerator::advance`] until it returns false.
+///
+/// Paths whose probability falls below [`CUTOFF`] are not split further:
+/// from there on the path follows one branch per draw (chosen by a fixed
+/// hash of the draw's position, so that a walk does not go back and forth
+/// between two full sites) and keeps its whole mass. The mass so assigned
+/// is summed in [`Enumerator::truncated_mass`]: an upper bound on the total
+/// variation distance between the computed and the exact distribution.
 #[derive(Debug, Clone, Default)]
 pub struct Enumerator {
     /// The branch taken at each draw of the current path, and the number of
-    /// branches of that draw.
+    /// branches of that draw (1 for a draw past the cutoff).
     path: Vec<(usize, usize)>,
-    /// Probability of each branch taken so far on the current path.
-    weights: Vec<f64>,
+    /// `prefix[i]`: probability of the current path up to draw i
+    /// (`prefix[0] = 1`).
+    prefix: Vec<f64>,
     /// Position of the next draw on the current path.
     pos: usize,
+    /// Probability of the current path where it passed the cutoff.
+    cut_at: Option<f64>,
+    /// Sum of the probabilities of the truncated paths run so far.
+    truncated: f64,
 }
 
 impl Enumerator {
     /// A new enumeration (the first path takes branch 0 of every draw).
     pub fn new() -> Self {
-        Self::default()
+        Self {
+            prefix: vec![1.0],
+            ..Self::default()
+        }
     }
 
     /// Probability of the path just run.
     pub fn probability(&self) -> f64 {
-        self.weights[..self.pos].iter().product()
+        self.prefix[self.pos]
+    }
+
+    /// Total probability of the paths (run so far) that were truncated at
+    /// [`CUTOFF`]; bounds the error of the enumerated distribution.
+    pub fn truncated_mass(&self) -> f64 {
+        self.truncated + self.cut_at.unwrap_or(0.0)
     }
 
     /// Move to the next path; false when every path has been run.
     pub fn advance(&mut self) -> bool {
+        if let Some(m) = self.cut_at.take() {
+            self.truncated += m;
+        }
         self.path.truncate(self.pos);
         while let Some((k, n)) = self.path.pop() {
             if k + 1 < n {
                 self.path.push((k + 1, n));
                 self.pos = 0;
-                self.weights.clear();
+                self.prefix.truncate(1);
                 return true;
             }
         }
@@ -107,26 +131,30 @@ impl Enumerator {
     }
 
     /// Take the next branch among `probs` (the probability of each branch).
-    /// Below a path probability of [`CUTOFF`] the siblings are no longer
-    /// explored: the path takes branch `pos mod n` with weight 1 (it carries
-    /// its whole remaining mass), so that unbounded computations (a
-    /// relocation walk that keeps hitting full sites) end; the mass moved is
-    /// below CUTOFF per truncated path.
     fn branch(&mut self, probs: &[f64]) -> usize {
-        let here: f64 = self.weights[..self.pos.min(self.weights.len())].iter().product();
+        let here = self.prefix[self.pos];
         let truncated = here < CUTOFF;
         let k = if self.pos < self.path.len() {
             self.path[self.pos].0
         } else if truncated {
-            let k = self.pos % probs.len();
+            if self.cut_at.is_none() {
+                self.cut_at = Some(here);
+            }
+            // splitmix64 of the position: a fixed, well-mixed choice
+            let mut z = (self.pos as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            let k = ((z ^ (z >> 31)) % probs.len() as u64) as usize;
             self.path.push((k, 1));
             k
         } else {
             self.path.push((0, probs.len()));
             0
         };
-        self.weights.truncate(self.pos);
-        self.weights.push(if truncated { 1.0 } else { probs[k] });
+        // past the cutoff the path keeps its whole mass
+        let w = if truncated { 1.0 } else { probs[k] };
+        self.prefix.truncate(self.pos + 1);
+        self.prefix.push(here * w);
         self.pos += 1;
         k
     }
@@ -188,5 +216,26 @@ mod tests {
         }
         assert_eq!(paths, 3 * 2 + 2);
         assert!((total - 1.0).abs() < 1e-12);
+        assert_eq!(e.truncated_mass(), 0.0);
+    }
+
+    #[test]
+    fn an_endless_walk_is_cut_and_its_mass_reported() {
+        // a walk that goes on with probability 1/3 at each hop: without the
+        // cutoff the enumeration would never end
+        let mut e = Enumerator::new();
+        let (mut paths, mut total) = (0u64, 0.0);
+        loop {
+            while e.below(3) == 0 {}
+            total += e.probability();
+            paths += 1;
+            if !e.advance() {
+                break;
+            }
+        }
+        assert!((total - 1.0).abs() < 1e-12, "{total}");
+        let m = e.truncated_mass();
+        assert!(m > 0.0 && m < 1e-12, "{m}");
+        assert!(paths < 1 << 20, "{paths}");
     }
 }

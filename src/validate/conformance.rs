@@ -54,8 +54,8 @@ pub fn probes() -> Vec<Probe> {
     };
     let open = |name, top| Probe {
         name,
-        width: OPEN_WIDTH,
-        x: 1,
+        width: OPEN_WIDTH + 1,
+        x: OPEN_WIDTH / 2,
         open: true,
         top,
     };
@@ -73,16 +73,21 @@ pub fn probes() -> Vec<Probe> {
     ]
 }
 
-/// Columns per probe block of the open probes.
-const OPEN_WIDTH: usize = 3;
+/// Columns per probe block of the open probes, the probe in the middle. Even,
+/// so that every probe column has the same parity (the odd columns are
+/// offset by half a row, MODEL.md A1); 6, so that the walls (column 0 and
+/// the extra last column) are 3 columns from every probe and no particle
+/// reaches them in one step unless a relocation walk takes 3 hops.
+const OPEN_WIDTH: usize = 6;
 
 impl Probe {
     /// The pipe of `blocks` probe sites: stacked along the pipe (periodic,
-    /// 5 rows each) or across it (open, 3 columns each, the probe in the
-    /// middle column; a particle moves at most one column in a step).
+    /// 5 rows each) or across it (open, [`OPEN_WIDTH`] columns each plus a
+    /// last wall column, the probe in the middle; a particle moves at most
+    /// one column in a step, a relocated one two).
     fn params(&self, base: &Params, blocks: usize) -> Params {
         let (width, length, boundary) = if self.open {
-            (OPEN_WIDTH * blocks, BLOCK, Boundary::Open { inject: 0.0 })
+            (OPEN_WIDTH * blocks + 1, BLOCK, Boundary::Open { inject: 0.0 })
         } else {
             (self.width, BLOCK * blocks, Boundary::Periodic)
         };
@@ -149,8 +154,15 @@ fn particles(sites: &[(usize, usize, u8)], y0: usize) -> Vec<(usize, i64, u8)> {
     v
 }
 
-/// The exact distribution of one (probe, state): outcome key -> probability.
-pub fn exact(probe: &Probe, base: &Params, rules: Rules, state: u8) -> Result<BTreeMap<String, f64>> {
+/// The exact distribution of one (probe, state): outcome key -> probability,
+/// and the probability mass of the paths cut at [`crate::pipe::draws::CUTOFF`]
+/// (relocation walks of several extras; an upper bound on the error).
+pub fn exact(
+    probe: &Probe,
+    base: &Params,
+    rules: Rules,
+    state: u8,
+) -> Result<(BTreeMap<String, f64>, f64)> {
     let params = probe.params(base, 1);
     let (x0, y0) = probe.site(0);
     let mut pipe = Pipe::new(params, rules, 1)?;
@@ -177,12 +189,12 @@ pub fn exact(probe: &Probe, base: &Params, rules: Rules, state: u8) -> Result<BT
         if prob > 0.0 {
             *dist.entry(key(&o)).or_insert(0.0) += prob;
         }
+        let cut = en.truncated_mass();
         if !en.advance() {
-            break;
+            return Ok((dist, cut));
         }
         e = Some(en);
     }
-    Ok(dist)
 }
 
 /// The exported table (`validate --export-table`): every probe and state.
@@ -197,6 +209,9 @@ pub struct Table {
     /// Per probe: its geometry and, per state 0..128, the outcome keys and
     /// their probabilities.
     pub probes: Vec<TableProbe>,
+    /// Largest probability mass, over all probes and states, of the
+    /// enumeration paths cut at `CUTOFF` (a bound on each entry's error).
+    pub max_truncated_mass: f64,
 }
 
 /// One probe of the [`Table`].
@@ -210,20 +225,23 @@ pub struct TableProbe {
 
 /// The whole exact table for `base` (p, g, b) and `rules`.
 pub fn table(base: &Params, rules: Rules) -> Result<Table> {
-    let probes = probes()
-        .into_iter()
-        .map(|probe| {
-            let states = (0..128u8)
-                .map(|s| exact(&probe, base, rules, s))
-                .collect::<Result<_>>()?;
-            Ok(TableProbe { probe, states })
-        })
-        .collect::<Result<_>>()?;
+    let mut max_truncated_mass: f64 = 0.0;
+    let mut out = Vec::new();
+    for probe in probes() {
+        let mut states = Vec::new();
+        for s in 0..128u8 {
+            let (d, cut) = exact(&probe, base, rules, s)?;
+            max_truncated_mass = max_truncated_mass.max(cut);
+            states.push(d);
+        }
+        out.push(TableProbe { probe, states });
+    }
     Ok(Table {
         about: "exact one-step outcome distribution of a lone site (granular-automata validate, level 1); outcome key: particles x:dy:channel relative to the probe row, then |injected:out_bottom:out_top",
         params: *base,
         rules: rules.to_string(),
-        probes,
+        probes: out,
+        max_truncated_mass,
     })
 }
 
@@ -256,7 +274,8 @@ pub fn measure(
     let s = cand.run(&plan)?;
     let mut per_block: Vec<Vec<(usize, usize, u8)>> = vec![Vec::new(); trials];
     for &site in s[0].sites.as_deref().unwrap_or(&[]) {
-        let k = probe.block(site.0, site.1);
+        // (the open pipe's last wall column belongs to the last block)
+        let k = probe.block(site.0, site.1).min(trials - 1);
         per_block[k].push(probe.to_block0(k, site));
     }
     // the flux of the open probes: per block, from the particles missing at
@@ -369,7 +388,7 @@ pub fn level1(
     let results = crate::run::ensemble(jobs.len(), |j| {
         let (pi, s) = jobs[j];
         let probe = &probes[pi];
-        let ex = exact(probe, base, r, s)?;
+        let (ex, _) = exact(probe, base, r, s)?;
         let seed = derive_seed(seed, j as u64);
         let obs = measure(cand, probe, base, rules, s, trials, seed)?;
         tick();
@@ -437,7 +456,8 @@ mod tests {
         let base = Params::default();
         for probe in probes() {
             for s in [0u8, 0b0000_0011, 0b0100_1001, 0b0111_1111, 0b0001_0101] {
-                let d = exact(&probe, &base, Rules::default(), s).unwrap();
+                let (d, cut) = exact(&probe, &base, Rules::default(), s).unwrap();
+                assert!(cut < 1e-6, "{} {s}: cut {cut}", probe.name);
                 let total: f64 = d.values().sum();
                 assert!((total - 1.0).abs() < 1e-9, "{} {s}: {total}", probe.name);
             }
