@@ -6,8 +6,8 @@
 //! `cargo run --release --bin fig2 -- --tier quick`
 
 use granular_automata::cli::PipeArgs;
-use granular_automata::pipe::spectra::{run_figure, SpectrumFigure};
 use granular_automata::pipe::claims::{ALPHA_MARGIN, V_MARGIN};
+use granular_automata::pipe::spectra::{run_figure, SpectrumFigure};
 use granular_automata::pipe::Params;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -142,9 +142,15 @@ fn main() -> granular_automata::Result<()> {
     let src = "BB90 Fig. 2 (qualitative)";
     let above = |threshold| Claim::Above { threshold };
     let empties = |c: usize, name: &str, what: &str| {
-        Check::test(name, Kind::Published, "BB90 Fig. 2 (the hopper flows until empty)",
-            g(&format!("{}_remaining_grains", CASES[c].key)).0, n, emptied[c],
-            &format!("{what}: every run empties (statistic: grains left, mean over runs)"))
+        Check::test(
+            name,
+            Kind::Published,
+            "BB90 Fig. 2 (the hopper flows until empty)",
+            g(&format!("{}_remaining_grains", CASES[c].key)).0,
+            n,
+            emptied[c],
+            &format!("{what}: every run empties (statistic: grains left, mean over runs)"),
+        )
     };
     let checks = vec![
         empties(0, "beta0_empties", "beta = 0"),

@@ -7,13 +7,13 @@
 
 use clap::Parser;
 use granular_automata::analysis::grading::{Claim, Estimate, Kind};
-use granular_automata::pipe::claims::ALPHA_MARGIN;
 use granular_automata::analysis::spectrum::frequency;
 use granular_automata::cli::Common;
 use granular_automata::hopper::experiment::{analyse_outflow, open_window_rates, run_cases};
 use granular_automata::hopper::experiment::{Case, Plan, WINDOW_BLOCK, WINDOW_FULL, WINDOW_SKIP};
 use granular_automata::hopper::picture::{outflow_charts, spectrum_chart};
 use granular_automata::hopper::{GeometryParams, HopperParams, RainParams};
+use granular_automata::pipe::claims::ALPHA_MARGIN;
 use granular_automata::run::{derive_seed, mean_sem_by, metrics_of, Check, Figure};
 use std::collections::BTreeMap;
 
@@ -113,7 +113,9 @@ fn main() -> granular_automata::Result<()> {
                 target: 0.0,
                 margin: TREND_MARGIN,
             },
-            &format!("(second - first half mean rate) / mean rate within Delta = {TREND_MARGIN}; {cap}"),
+            &format!(
+                "(second - first half mean rate) / mean rate within Delta = {TREND_MARGIN}; {cap}"
+            ),
         ));
         checks.push(Check::published(
             &format!("{key}_white_spectrum"),

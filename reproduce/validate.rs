@@ -57,13 +57,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let t = conformance::table(&base, rules)?;
         let text = serde_json::to_string(&t)?;
         write_atomic(path, text.as_bytes())?;
-        println!("wrote the exact level-1 table of `{rules}` to {}", path.display());
+        println!(
+            "wrote the exact level-1 table of `{rules}` to {}",
+            path.display()
+        );
         return Ok(());
     }
     let mut size = Size::for_tier(args.tier);
     if let Some(t) = args.trials {
         if !(1..=1_000_000).contains(&t) {
-            return Err(granular_automata::Error::out_of_range("--trials", t, "[1, 1000000]").into());
+            return Err(
+                granular_automata::Error::out_of_range("--trials", t, "[1, 1000000]").into(),
+            );
         }
         size.trials = t;
     }
@@ -141,14 +146,21 @@ fn repeat(
     let safe: String = args
         .candidate
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect();
     let path = out.path(&format!("repeat-{safe}.csv"));
     let config = format!(
         "# candidate={} level={:?} tier={:?} rules={} trials={} runs={}",
         args.candidate, args.level, args.tier, args.rules, size.trials, size.runs
     );
-    let header = "seed,pass,level1_pass,level1_differences,level2_pass,level2_differing,wall_seconds";
+    let header =
+        "seed,pass,level1_pass,level1_differences,level2_pass,level2_differing,wall_seconds";
     let mut text = match std::fs::read_to_string(&path) {
         Ok(t) if t.lines().next() == Some(config.as_str()) => t,
         _ => format!("{config}\n{header}\n"),
@@ -161,7 +173,8 @@ fn repeat(
     let pb = progress(n as u64, "repeat");
     for seed in args.seed..args.seed + n as u64 {
         if !done.contains(&seed) {
-            let r = validate::validate(cand, &args.rules, args.level, args.tier, size, seed, &|| {})?;
+            let r =
+                validate::validate(cand, &args.rules, args.level, args.tier, size, seed, &|| {})?;
             let l1 = r.level1.as_ref();
             let l2 = r.level2.as_ref();
             let opt = |b: Option<bool>| b.map_or(String::new(), |b| b.to_string());
@@ -172,7 +185,11 @@ fn repeat(
                 l1.map_or(String::new(), |l| l.differences.len().to_string()),
                 opt(l2.map(|l| l.pass)),
                 l2.map_or(String::new(), |l| {
-                    l.comparisons.iter().filter(|c| c.differs).count().to_string()
+                    l.comparisons
+                        .iter()
+                        .filter(|c| c.differs)
+                        .count()
+                        .to_string()
                 }),
                 r.wall_seconds
             ));

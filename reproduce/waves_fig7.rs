@@ -5,13 +5,13 @@
 //!
 //! `cargo run --release --bin waves-fig7 -- --tier quick`
 
-use granular_automata::cli::PipeArgs;
-use granular_automata::pipe::spectra::{
-    resumable_ensemble, spectra_chart, spectrum_lines, spectrum_rows, tier_setup,
-    SpectrumEnsemble, DISCREPANCY,
-};
 use granular_automata::analysis::grading::Claim;
+use granular_automata::cli::PipeArgs;
 use granular_automata::pipe::claims::ALPHA_MARGIN;
+use granular_automata::pipe::spectra::{
+    resumable_ensemble, spectra_chart, spectrum_lines, spectrum_rows, tier_setup, SpectrumEnsemble,
+    DISCREPANCY,
+};
 use granular_automata::pipe::Params;
 use granular_automata::run::{derive_seed, mark_discrepancies, Check, Output, Summary};
 use serde_json::json;

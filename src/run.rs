@@ -252,7 +252,14 @@ impl Check {
         verdict: Verdict,
         note: &str,
     ) -> Self {
-        let mut c = Check::exact(name, kind, source, measured, verdict == Verdict::Reproduced, note);
+        let mut c = Check::exact(
+            name,
+            kind,
+            source,
+            measured,
+            verdict == Verdict::Reproduced,
+            note,
+        );
         c.error = error;
         c.runs = runs;
         c.verdict = verdict;

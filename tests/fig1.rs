@@ -3,10 +3,11 @@
 //! summary.json.
 //!
 //! The statistic is s_low = S(1..3) over the late half divided by its
-//! random-start value; waves mean s_low - 2 SE > 2, no waves s_low + 2 SE < 2,
-//! with SE the standard error over the 4 seeds (so a true "no waves" panel
-//! fails by chance with probability about 2.5% if s_low were normal; the seeds
-//! are fixed, so the test is deterministic). The same statistic must fail for
+//! random-start value, graded by the one rule of `analysis::grading`: waves
+//! when s_low - k SE > 2, no waves when s_low + k SE <= 2, with SE the
+//! standard error over the 4 seeds and k = t(0.975, 3) = 3.18 (the seeds are
+//! fixed, so the test is deterministic). The same statistic must fail
+//! ("not reproduced", not merely undecided) for
 //! a wrong model: the literal [PH95] gravity wording (`any-mover`), under which
 //! the gas collapses into free fall and forms no bands (MODEL.md A11).
 
@@ -56,9 +57,10 @@ fn default_rules_form_waves_in_a_and_c_only_and_any_mover_fails() {
     }
     // the wrong model: no bands at p = 0.1, so the same checks fail
     let w = run_fig1("any-mover", "any-mover");
-    for name in ["waves_a", "waves_c", "s_low_a_gt_b", "s_low_c_gt_d"] {
+    // (s_low_c_gt_d is undecided for it at this tier, so not listed)
+    for name in ["waves_a", "waves_c", "s_low_a_gt_b", "s_low_c_gt_b"] {
         assert!(
-            !check(&w, name),
+            common::contradicted(&w, name),
             "any-mover: {name} must fail: {}",
             w["metrics"]
         );

@@ -29,7 +29,14 @@ fn report(dir: &std::path::Path) -> serde_json::Value {
 fn the_reference_passes_both_levels() {
     let dir = out("reference");
     let status = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(["--candidate", "reference", "--level", "all", "--tier", "quick"])
+        .args([
+            "--candidate",
+            "reference",
+            "--level",
+            "all",
+            "--tier",
+            "quick",
+        ])
         .arg("--out")
         .arg(&dir)
         .status()
@@ -45,7 +52,16 @@ fn the_reference_passes_both_levels() {
 fn every_mutant_fails_level_1() {
     let size = Size::for_tier(Tier::Quick);
     for (name, m) in MUTANTS {
-        let r = validate(&Builtin(m), "default", Level::One, Tier::Quick, size, 3, &|| {}).unwrap();
+        let r = validate(
+            &Builtin(m),
+            "default",
+            Level::One,
+            Tier::Quick,
+            size,
+            3,
+            &|| {},
+        )
+        .unwrap();
         let l = r.level1.unwrap();
         assert!(!r.pass, "mutant {name} passed level 1");
         assert!(!l.differences.is_empty(), "{name}");
@@ -78,7 +94,16 @@ fn the_external_example_passes_through_the_contract() {
     let dir = out("external");
     let cmd = format!("cmd:{}", env!("CARGO_BIN_EXE_validate-example"));
     let status = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(["--candidate", &cmd, "--level", "all", "--trials", "1000", "--runs", "4"])
+        .args([
+            "--candidate",
+            &cmd,
+            "--level",
+            "all",
+            "--trials",
+            "1000",
+            "--runs",
+            "4",
+        ])
         .arg("--out")
         .arg(&dir)
         .status()
@@ -107,7 +132,10 @@ fn exact_table_matches_hand_calculation() {
     assert!((d["2:-1:4|0:0:0"] - 0.5).abs() < 1e-9, "{d:?}");
     assert!((d["2:0:0|0:0:0"] - 0.5).abs() < 1e-9, "{d:?}");
     // the open bottom: a lone down-mover leaves the pipe
-    let bottom = probes().into_iter().find(|p| p.name == "open-bottom").unwrap();
+    let bottom = probes()
+        .into_iter()
+        .find(|p| p.name == "open-bottom")
+        .unwrap();
     let (d, _) = exact(&bottom, &base, rules, 0b0001_0000).unwrap();
     assert_eq!(d["|0:1:0"], 1.0, "{d:?}");
 }

@@ -36,5 +36,9 @@ fn fig2_quick_waves_form_and_p0_has_none() {
     let v = s["metrics"]["speed_real_space"].as_f64().unwrap();
     assert!((-0.35..-0.15).contains(&v), "speed {v}");
     let w = run("p0", &["--p", "0"]);
-    assert!(!pass(&w, "waves_form"), "p = 0: {}", w["metrics"]);
+    assert!(
+        common::contradicted(&w, "waves_form"),
+        "p = 0: {}",
+        w["metrics"]
+    );
 }

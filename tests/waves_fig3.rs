@@ -81,26 +81,39 @@ fn energy_identity_fails_for_a_start_with_rest_particles() {
 }
 
 /// Default reading: the energy identity holds, the energy loss rises and
-/// saturates, C(0) is the random-start value (3 SE + 2%, normal
-/// approximation), and C falls below it (the measured behaviour of this
+/// saturates, C(0) is not contradicted as the random-start value (margin
+/// 2%, normal approximation; undecided at this tier), and C falls below it (the measured behaviour of this
 /// reading, EXPERIMENTS.md; PH95 says C rises). Wrong model p = 0
 /// (no dissipation): no rest particles, so the energy loss is exactly 0 and
 /// `energy_loss_rises` fails.
 #[test]
 fn fig3_quick_default_and_p0() {
     let s = run("default", &[]);
-    for c in [
-        "energy_identity",
-        "energy_loss_rises",
-        "contrast_start_is_random",
-    ] {
+    for c in ["energy_identity", "energy_loss_rises"] {
         assert!(pass(&s, c), "{c}: {}", s["metrics"]);
     }
+    // C(0) = 3.462 +- 0.087 against 3.514 with a margin of 2%: k SE alone
+    // (0.17) exceeds the margin, so the one grading rule leaves it undecided
+    // at the quick tier (the old rule's "3 SE + 2%" widened with the spread);
+    // asserted not contradicted (it would be for a start off by 0.25)
+    assert!(
+        !common::contradicted(&s, "contrast_start_is_random"),
+        "{}",
+        s["metrics"]
+    );
     assert!(metric(&s, "energy_loss_saturation") > 20.0);
     assert!(metric(&s, "contrast_change") + 2.0 * metric(&s, "contrast_change_err") < 0.0);
-    assert!(!pass(&s, "contrast_rises"));
+    assert!(
+        common::contradicted(&s, "contrast_rises"),
+        "{}",
+        s["metrics"]
+    );
     let w = run("p0", &["--p", "0"]);
     assert!(pass(&w, "energy_identity"));
-    assert!(!pass(&w, "energy_loss_rises"));
+    assert!(
+        common::contradicted(&w, "energy_loss_rises"),
+        "{}",
+        w["metrics"]
+    );
     assert_eq!(metric(&w, "energy_loss_saturation"), 0.0);
 }

@@ -4,19 +4,20 @@
 //!
 //! Statistic: the amplitude of the aligned profile minus that of white-noise
 //! fields of the same variance aligned the same way (the alignment bias
-//! "null"), mean +- SE over the 8 runs. A wave: excess - 2 SE > null (the
-//! amplitude is more than twice the bias); flat: excess + 2 SE < null (2 SE:
-//! about 2.5% false alarms per side for a normal statistic; the seeds are
-//! fixed, so the test is deterministic). Default reading at p = 0.1: a wave,
-//! not flat. A steep downstream front (asymmetry - 2 SE > 0) is shown by the
-//! `ph94` reading (the default until session 2); the default's asymmetry is
-//! undecided at this tier (0.10 +- 0.17) and pinned.
+//! "null"), mean +- SE over the 8 runs, graded by the one rule of
+//! `analysis::grading`: a wave when excess - k SE > null, flat when excess +
+//! k SE < null (k = t(0.975, 7) = 2.36 for 8 runs; the seeds are fixed, so
+//! the test is deterministic). Default reading at p = 0.1: a wave,
+//! not flat. A steep downstream front (asymmetry > 0) is not contradicted for
+//! the `ph94` reading (the default until session 2; it was decided under the
+//! old 2 SE rule, not under the one rule's k = 2.36 at 8 runs); the default's
+//! asymmetry is undecided at this tier (0.10 +- 0.17) and pinned.
 //! Wave-free readings: p = 0 is flat and has no wave; `any-mover` (no bands,
 //! correlated fluctuations) has no wave. So each check fails for a wrong
 //! model.
 
 mod common;
-use common::pass;
+use common::{contradicted, pass};
 
 fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
     let mut args = vec![
@@ -49,18 +50,21 @@ fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
 fn fig4_quick_wave_profile_and_flat_p0() {
     let s = run("default", &[]);
     assert!(pass(&s, "wave_profile_L1024"), "{}", s["metrics"]);
-    assert!(!pass(&s, "flat_profile_L1024"), "{}", s["metrics"]);
+    assert!(contradicted(&s, "flat_profile_L1024"), "{}", s["metrics"]);
     // pinned (quick, seed 1, 8 runs): asymmetry 0.0991 +- 0.1680
     let a = s["metrics"]["asymmetry_L1024"].as_f64().unwrap();
     assert!((a - 0.0991).abs() <= 3.0 * 0.168, "asymmetry {a}");
     let r = run("ph94", &["--rules", "ph94"]);
     assert!(pass(&r, "wave_profile_L1024"), "{}", r["metrics"]);
-    assert!(pass(&r, "steep_front_L1024"), "{}", r["metrics"]);
+    // the steep front of `ph94` (asymmetry 0.22 +- 0.11 over these 8 runs)
+    // is no longer decided under the one grading rule (k = t(0.975, 7) =
+    // 2.36): asserted not contradicted
+    assert!(!contradicted(&r, "steep_front_L1024"), "{}", r["metrics"]);
     let w = run("p0", &["--p", "0"]);
     assert!(pass(&w, "flat_profile_L1024"), "{}", w["metrics"]);
-    assert!(!pass(&w, "wave_profile_L1024"), "{}", w["metrics"]);
+    assert!(contradicted(&w, "wave_profile_L1024"), "{}", w["metrics"]);
     // a wave-free reading whose steady state has correlated fluctuations
     // (the literal PH95 gravity wording, MODEL.md A11): no wave either
     let a = run("any-mover", &["--rules", "any-mover"]);
-    assert!(!pass(&a, "wave_profile_L1024"), "{}", a["metrics"]);
+    assert!(contradicted(&a, "wave_profile_L1024"), "{}", a["metrics"]);
 }

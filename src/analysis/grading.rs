@@ -260,9 +260,18 @@ mod tests {
             target: 1.0,
             margin: 0.1,
         };
-        assert_eq!(grade(Estimate::new(1.0, 0.0, 1), within), Verdict::Undecided);
-        assert_eq!(grade(Estimate::new(1.0, 0.0, 2), within), Verdict::Undecided);
-        assert_eq!(grade(Estimate::new(1.0, 0.0, 3), within), Verdict::Reproduced);
+        assert_eq!(
+            grade(Estimate::new(1.0, 0.0, 1), within),
+            Verdict::Undecided
+        );
+        assert_eq!(
+            grade(Estimate::new(1.0, 0.0, 2), within),
+            Verdict::Undecided
+        );
+        assert_eq!(
+            grade(Estimate::new(1.0, 0.0, 3), within),
+            Verdict::Reproduced
+        );
         assert_eq!(grade(Estimate::of(&[1.0]), within), Verdict::Undecided);
         assert_eq!(grade(Estimate::of(&[]), within), Verdict::Undecided);
         let nan = Estimate::new(f64::NAN, 0.1, 10);
@@ -284,11 +293,20 @@ mod tests {
             margin: 0.1,
         };
         // n = 100: k = 2
-        assert_eq!(grade(Estimate::new(1.30, 0.02, 100), c), Verdict::Reproduced);
-        assert_eq!(grade(Estimate::new(1.10, 0.02, 100), c), Verdict::NotReproduced);
+        assert_eq!(
+            grade(Estimate::new(1.30, 0.02, 100), c),
+            Verdict::Reproduced
+        );
+        assert_eq!(
+            grade(Estimate::new(1.10, 0.02, 100), c),
+            Verdict::NotReproduced
+        );
         assert_eq!(grade(Estimate::new(1.10, 0.2, 100), c), Verdict::Undecided);
         // more noise never grades better
-        assert_eq!(grade(Estimate::new(1.25, 0.005, 100), c), Verdict::Reproduced);
+        assert_eq!(
+            grade(Estimate::new(1.25, 0.005, 100), c),
+            Verdict::Reproduced
+        );
         assert_eq!(grade(Estimate::new(1.25, 0.04, 100), c), Verdict::Undecided);
         assert_eq!(grade(Estimate::new(1.25, 0.08, 100), c), Verdict::Undecided);
         // small n widens the interval: 1.30 +- 0.02 at n = 3 (k = 4.3)
@@ -296,11 +314,20 @@ mod tests {
 
         let up = Claim::Above { threshold: 2.0 };
         assert_eq!(grade(Estimate::new(10.0, 1.0, 50), up), Verdict::Reproduced);
-        assert_eq!(grade(Estimate::new(1.0, 0.2, 50), up), Verdict::NotReproduced);
+        assert_eq!(
+            grade(Estimate::new(1.0, 0.2, 50), up),
+            Verdict::NotReproduced
+        );
         assert_eq!(grade(Estimate::new(3.0, 1.0, 50), up), Verdict::Undecided);
         let down = Claim::Below { threshold: 2.0 };
-        assert_eq!(grade(Estimate::new(1.0, 0.2, 50), down), Verdict::Reproduced);
-        assert_eq!(grade(Estimate::new(10.0, 1.0, 50), down), Verdict::NotReproduced);
+        assert_eq!(
+            grade(Estimate::new(1.0, 0.2, 50), down),
+            Verdict::Reproduced
+        );
+        assert_eq!(
+            grade(Estimate::new(10.0, 1.0, 50), down),
+            Verdict::NotReproduced
+        );
         assert_eq!(grade(Estimate::new(3.0, 1.0, 50), down), Verdict::Undecided);
     }
 

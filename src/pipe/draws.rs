@@ -176,7 +176,11 @@ impl Draws for Enumerator {
         let mut probs = Vec::with_capacity(cumulative.len());
         let mut prev = 0u64;
         for (k, &c) in cumulative.iter().enumerate() {
-            let c = if k + 1 == cumulative.len() { 1 << 32 } else { c };
+            let c = if k + 1 == cumulative.len() {
+                1 << 32
+            } else {
+                c
+            };
             probs.push(c.saturating_sub(prev) as f64 / SCALE);
             prev = c.max(prev);
         }

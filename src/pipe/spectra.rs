@@ -5,8 +5,8 @@
 
 use super::{Params, Pipe, Rules};
 use crate::analysis::fit::{estimate_alpha, wave_velocity, AlphaEstimate};
-use crate::analysis::spectrum::{average_spectra, spctrm, SpectrumParams, Window};
 use crate::analysis::grading::{Claim, Estimate};
+use crate::analysis::spectrum::{average_spectra, spctrm, SpectrumParams, Window};
 use crate::error::Result;
 use crate::plot::{line_chart_at, Line, PALETTE};
 use crate::run::{ensemble, mean_sem};

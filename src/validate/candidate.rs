@@ -86,7 +86,11 @@ impl<B: EngineBuilder> Candidate for Builtin<B> {
 fn check_plan(plan: &RunPlan) -> Result<()> {
     plan.params.validate()?;
     if plan.every == 0 {
-        return Err(Error::out_of_range("sampling interval every", 0, "[1, steps]"));
+        return Err(Error::out_of_range(
+            "sampling interval every",
+            0,
+            "[1, steps]",
+        ));
     }
     Ok(())
 }
@@ -191,7 +195,10 @@ impl Candidate for External {
             .enumerate()
             .map(|(i, l)| {
                 serde_json::from_str(l).map_err(|e| {
-                    external_error(&self.command, &format!("line {} is not a sample: {e}", i + 1))
+                    external_error(
+                        &self.command,
+                        &format!("line {} is not a sample: {e}", i + 1),
+                    )
                 })
             })
             .collect::<Result<_>>()?;
@@ -199,7 +206,10 @@ impl Candidate for External {
         if samples.len() as u64 != want {
             return Err(external_error(
                 &self.command,
-                &format!("printed {} samples, the plan asks for {want}", samples.len()),
+                &format!(
+                    "printed {} samples, the plan asks for {want}",
+                    samples.len()
+                ),
             ));
         }
         Ok(samples)

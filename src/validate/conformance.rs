@@ -87,7 +87,11 @@ impl Probe {
     /// one column in a step, a relocated one two).
     fn params(&self, base: &Params, blocks: usize) -> Params {
         let (width, length, boundary) = if self.open {
-            (OPEN_WIDTH * blocks + 1, BLOCK, Boundary::Open { inject: 0.0 })
+            (
+                OPEN_WIDTH * blocks + 1,
+                BLOCK,
+                Boundary::Open { inject: 0.0 },
+            )
         } else {
             (self.width, BLOCK * blocks, Boundary::Periodic)
         };
@@ -378,7 +382,10 @@ pub fn level1(
     tick: &(dyn Fn() + Sync),
 ) -> Result<Level1> {
     if trials == 0 {
-        return Err(Error::new(ErrorKind::InvalidParameter, "level 1 needs trials >= 1"));
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            "level 1 needs trials >= 1",
+        ));
     }
     let r: Rules = rules.parse()?;
     let probes = probes();

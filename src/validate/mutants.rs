@@ -57,7 +57,10 @@ impl std::str::FromStr for Mutant {
                 let names: Vec<&str> = MUTANTS.iter().map(|(n, _)| *n).collect();
                 Error::new(
                     ErrorKind::InvalidParameter,
-                    format!("unknown mutant `{s}`; the mutants are: {}", names.join(", ")),
+                    format!(
+                        "unknown mutant `{s}`; the mutants are: {}",
+                        names.join(", ")
+                    ),
                 )
             })
     }

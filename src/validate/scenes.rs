@@ -91,7 +91,10 @@ pub fn observables(scene: &Scene, samples: &[Sample]) -> Result<BTreeMap<String,
     let mean = |f: &dyn Fn(&Sample) -> f64| s.iter().map(|x| f(x)).sum::<f64>() / n;
     let mut o = BTreeMap::new();
     for c in 0..7 {
-        o.insert(format!("occupation_{c}"), mean(&|x| x.channels[c] as f64 / sites));
+        o.insert(
+            format!("occupation_{c}"),
+            mean(&|x| x.channels[c] as f64 / sites),
+        );
     }
     o.insert(
         "vertical_velocity".into(),
@@ -107,10 +110,7 @@ pub fn observables(scene: &Scene, samples: &[Sample]) -> Result<BTreeMap<String,
     );
     let k = p.bins() as f64;
     for q in 1..=3 {
-        o.insert(
-            format!("S{q}"),
-            mean(&|x| structure_factor(&x.bins, q) / k),
-        );
+        o.insert(format!("S{q}"), mean(&|x| structure_factor(&x.bins, q) / k));
     }
     o.insert("contrast".into(), mean(&|x| contrast(&x.bins)));
     let bin_var = (0..p.bins())
@@ -142,8 +142,8 @@ pub fn observables(scene: &Scene, samples: &[Sample]) -> Result<BTreeMap<String,
             .map(|w| (w[1].flux[1] - w[0].flux[1]) as f64 / scene.every as f64)
             .collect();
         let m = outs.iter().sum::<f64>() / outs.len() as f64;
-        let sd = (outs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (outs.len() as f64 - 1.0))
-            .sqrt();
+        let sd =
+            (outs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (outs.len() as f64 - 1.0)).sqrt();
         o.insert("outflow_rate".into(), m);
         o.insert("outflow_sd".into(), sd);
     }
@@ -279,7 +279,11 @@ pub fn level2(
     tick: &(dyn Fn() + Sync),
 ) -> Result<Level2> {
     if runs < 3 {
-        return Err(crate::Error::out_of_range("level 2 runs per engine", runs, "[3, 10000]"));
+        return Err(crate::Error::out_of_range(
+            "level 2 runs per engine",
+            runs,
+            "[3, 10000]",
+        ));
     }
     let r = run_scenes(reference, scenes, rules, runs, seed, tick)?;
     let c = run_scenes(cand, scenes, rules, runs, seed ^ CANDIDATE_SALT, tick)?;

@@ -64,3 +64,13 @@ pub fn verdict(s: &serde_json::Value, name: &str) -> String {
         .expect("verdict is a string")
         .to_string()
 }
+
+/// Whether the claim of check `name` is contradicted: verdict
+/// `not-reproduced` (|d| - k SE > margin under the one grading rule).
+///
+/// The tests use it where a CI-sized run cannot decide a claim (k SE alone
+/// exceeds the margin): the default reading must not be contradicted, and a
+/// named wrong reading must be.
+pub fn contradicted(s: &serde_json::Value, name: &str) -> bool {
+    verdict(s, name) == "not-reproduced"
+}
