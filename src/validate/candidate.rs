@@ -4,6 +4,7 @@
 //! the external-program contract of VALIDATION.md ([`External`]).
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::hopper::engine::HopperBuilder;
 use crate::pipe::engine::{EngineBuilder, PipeEngine};
 use crate::pipe::{Flux, Params, Rules};
 use serde::{Deserialize, Serialize};
@@ -53,6 +54,11 @@ pub trait Candidate: Sync {
     fn name(&self) -> String;
     /// Run `plan` and return its samples in time order.
     fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>>;
+    /// Its hopper engine (MODEL.md Part B), if it provides one; the
+    /// external-program contract is pipe-only, so none by default.
+    fn hopper(&self) -> Option<&dyn HopperBuilder> {
+        None
+    }
 }
 
 /// A Rust engine behind the [`EngineBuilder`] contract.
@@ -61,6 +67,10 @@ pub struct Builtin<B>(pub B);
 impl<B: EngineBuilder> Candidate for Builtin<B> {
     fn name(&self) -> String {
         self.0.name()
+    }
+
+    fn hopper(&self) -> Option<&dyn HopperBuilder> {
+        self.0.hopper()
     }
 
     fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>> {
@@ -86,7 +96,11 @@ impl<B: EngineBuilder> Candidate for Builtin<B> {
 fn check_plan(plan: &RunPlan) -> Result<()> {
     plan.params.validate()?;
     if plan.every == 0 {
-        return Err(Error::out_of_range("sampling interval every", 0, "[1, steps]"));
+        return Err(Error::out_of_range(
+            "sampling interval every",
+            0,
+            "[1, steps]",
+        ));
     }
     Ok(())
 }
@@ -191,7 +205,10 @@ impl Candidate for External {
             .enumerate()
             .map(|(i, l)| {
                 serde_json::from_str(l).map_err(|e| {
-                    external_error(&self.command, &format!("line {} is not a sample: {e}", i + 1))
+                    external_error(
+                        &self.command,
+                        &format!("line {} is not a sample: {e}", i + 1),
+                    )
                 })
             })
             .collect::<Result<_>>()?;
@@ -199,7 +216,10 @@ impl Candidate for External {
         if samples.len() as u64 != want {
             return Err(external_error(
                 &self.command,
-                &format!("printed {} samples, the plan asks for {want}", samples.len()),
+                &format!(
+                    "printed {} samples, the plan asks for {want}",
+                    samples.len()
+                ),
             ));
         }
         Ok(samples)
