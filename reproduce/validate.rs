@@ -7,7 +7,7 @@
 
 use clap::Parser;
 use granular_automata::run::{progress, write_atomic, Output, Tier};
-use granular_automata::validate::{self, candidate_from, conformance, Level, Size};
+use granular_automata::validate::{self, candidate_from, conformance, Level, Model, Size};
 use std::path::PathBuf;
 
 /// Validate a candidate engine against the reference (VALIDATION.md).
@@ -20,6 +20,9 @@ struct Args {
     /// 1 (rule conformance), 2 (scenes) or all.
     #[arg(long, value_enum, default_value_t = Level::All)]
     level: Level,
+    /// pipe, hopper (MODEL.md Part B; Rust candidates only) or all.
+    #[arg(long, value_enum, default_value_t = Model::All)]
+    model: Model,
     /// quick (seconds) or standard (minutes); paper = standard.
     #[arg(long, value_enum, default_value_t = Tier::Quick)]
     tier: Tier,
@@ -35,6 +38,9 @@ struct Args {
     /// Level-2 runs per engine per scene (default: by tier), 3..=10000.
     #[arg(long)]
     runs: Option<usize>,
+    /// Hopper level-2 runs per engine per scene (default: by tier), 3..=10000.
+    #[arg(long)]
+    hopper_runs: Option<usize>,
     /// Output folder; the report goes to OUT/validate/.
     #[arg(long, default_value = "results")]
     out: PathBuf,
@@ -78,6 +84,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         size.runs = r;
     }
+    if let Some(r) = args.hopper_runs {
+        if !(3..=10_000).contains(&r) {
+            return Err(
+                granular_automata::Error::out_of_range("--hopper-runs", r, "[3, 10000]").into(),
+            );
+        }
+        size.hopper_runs = r;
+    }
     let cand = candidate_from(&args.candidate)?;
     if let Some(n) = args.repeat {
         if !(1..=10_000).contains(&n) {
@@ -85,11 +99,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         return repeat(&args, cand.as_ref(), size, n);
     }
-    let pb = progress(validate::jobs(args.level, args.tier, size), "validate");
+    let pb = progress(
+        validate::jobs(args.level, args.model, args.tier, size),
+        "validate",
+    );
     let report = validate::validate(
         cand.as_ref(),
         &args.rules,
         args.level,
+        args.model,
         args.tier,
         size,
         args.seed,
@@ -120,6 +138,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             l.comparisons.len(),
             l.runs
         );
+    }
+    if let Some(h) = &report.hopper {
+        println!("hopper: {}", h.status);
+        if let Some(l) = &h.level1 {
+            println!(
+                "hopper level 1: {} ({} differences; {} energies, {} conflicts, {} spacings)",
+                if l.pass { "PASS" } else { "FAIL" },
+                l.failed,
+                l.energies,
+                l.conflicts,
+                l.spacings
+            );
+        }
+        if let Some(l) = &h.level2 {
+            let n = l.comparisons.iter().filter(|c| c.differs).count();
+            println!(
+                "hopper level 2: {} ({n} of {} observables differ, {} runs per engine)",
+                if l.pass { "PASS" } else { "FAIL" },
+                l.comparisons.len(),
+                l.runs
+            );
+        }
     }
     println!(
         "{}: {} ({:.1} s); report in {}",
@@ -156,11 +196,17 @@ fn repeat(
         .collect();
     let path = out.path(&format!("repeat-{safe}.csv"));
     let config = format!(
-        "# candidate={} level={:?} tier={:?} rules={} trials={} runs={}",
-        args.candidate, args.level, args.tier, args.rules, size.trials, size.runs
+        "# candidate={} level={:?} model={:?} tier={:?} rules={} trials={} runs={} hopper_runs={}",
+        args.candidate,
+        args.level,
+        args.model,
+        args.tier,
+        args.rules,
+        size.trials,
+        size.runs,
+        size.hopper_runs
     );
-    let header =
-        "seed,pass,level1_pass,level1_differences,level2_pass,level2_differing,wall_seconds";
+    let header = "seed,pass,level1_pass,level1_differences,level2_pass,level2_differing,hopper_level1_pass,hopper_level1_differences,hopper_level2_pass,hopper_level2_differing,wall_seconds";
     let mut text = match std::fs::read_to_string(&path) {
         Ok(t) if t.lines().next() == Some(config.as_str()) => t,
         _ => format!("{config}\n{header}\n"),
@@ -173,18 +219,38 @@ fn repeat(
     let pb = progress(n as u64, "repeat");
     for seed in args.seed..args.seed + n as u64 {
         if !done.contains(&seed) {
-            let r =
-                validate::validate(cand, &args.rules, args.level, args.tier, size, seed, &|| {})?;
+            let r = validate::validate(
+                cand,
+                &args.rules,
+                args.level,
+                args.model,
+                args.tier,
+                size,
+                seed,
+                &|| {},
+            )?;
             let l1 = r.level1.as_ref();
             let l2 = r.level2.as_ref();
+            let h1 = r.hopper.as_ref().and_then(|h| h.level1.as_ref());
+            let h2 = r.hopper.as_ref().and_then(|h| h.level2.as_ref());
             let opt = |b: Option<bool>| b.map_or(String::new(), |b| b.to_string());
             text.push_str(&format!(
-                "{seed},{},{},{},{},{},{:.2}\n",
+                "{seed},{},{},{},{},{},{},{},{},{},{:.2}\n",
                 r.pass,
                 opt(l1.map(|l| l.pass)),
                 l1.map_or(String::new(), |l| l.differences.len().to_string()),
                 opt(l2.map(|l| l.pass)),
                 l2.map_or(String::new(), |l| {
+                    l.comparisons
+                        .iter()
+                        .filter(|c| c.differs)
+                        .count()
+                        .to_string()
+                }),
+                opt(h1.map(|l| l.pass)),
+                h1.map_or(String::new(), |l| l.failed.to_string()),
+                opt(h2.map(|l| l.pass)),
+                h2.map_or(String::new(), |l| {
                     l.comparisons
                         .iter()
                         .filter(|c| c.differs)
@@ -209,12 +275,14 @@ fn repeat(
         .collect();
     let count = |col: usize| rows.iter().filter(|r| r[col] == "false").count();
     println!(
-        "{}: failed {} of {} validations (level 1: {}, level 2: {}); rows in {}",
+        "{}: failed {} of {} validations (level 1: {}, level 2: {}, hopper level 1: {}, hopper level 2: {}); rows in {}",
         args.candidate,
         count(1),
         rows.len(),
         count(2),
         count(4),
+        count(6),
+        count(8),
         path.display()
     );
     Ok(())

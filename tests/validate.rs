@@ -1,7 +1,9 @@
 //! Acceptance tests of `validate` (issue 12, VALIDATION.md) at the quick
-//! tier: the reference passes both levels, every mutant of the catalogue
-//! fails, the external example passes through the external-program
-//! contract, and the exact table is right where it can be worked out by hand.
+//! tier: the reference passes both levels of the pipe and of the hopper,
+//! every pipe mutant of the catalogue fails pipe level 1, every hopper mutant
+//! fails hopper level 1, the external example passes through the
+//! external-program contract (its hopper: not provided), and the exact table
+//! is right where it can be worked out by hand.
 //! The false-alarm rate and power are measured in EXPERIMENTS.md
 //! ("validate"), not here.
 
@@ -10,7 +12,7 @@ use granular_automata::run::Tier;
 use granular_automata::validate::candidate::Builtin;
 use granular_automata::validate::conformance::{exact, probes};
 use granular_automata::validate::mutants::MUTANTS;
-use granular_automata::validate::{validate, Level, Size};
+use granular_automata::validate::{validate, Level, Model, Size};
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -45,17 +47,74 @@ fn the_reference_passes_both_levels() {
     let r = report(&dir);
     assert_eq!(r["pass"], true);
     assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
+    assert_eq!(r["hopper"]["status"], "PASS");
+    assert!(r["hopper"]["level1"]["energies"].as_u64().unwrap() > 10_000);
+    assert_eq!(r["hopper"]["level2"]["pass"], true);
     assert!(dir.join("validate/report.md").exists());
+}
+
+#[test]
+fn every_hopper_mutant_fails_the_hopper_part_at_level_1() {
+    let size = Size::for_tier(Tier::Quick);
+    let hopper_mutants: Vec<_> = MUTANTS.into_iter().filter(|(_, m)| m.is_hopper()).collect();
+    assert_eq!(hopper_mutants.len(), 2);
+    for (name, m) in hopper_mutants {
+        let r = validate(
+            &Builtin(m),
+            "default",
+            Level::One,
+            Model::Hopper,
+            Tier::Quick,
+            size,
+            3,
+            &|| {},
+        )
+        .unwrap();
+        let h = r.hopper.unwrap();
+        let l = h.level1.unwrap();
+        assert!(
+            !r.pass && h.status == "FAIL",
+            "mutant {name} passed the hopper part"
+        );
+        assert!(!l.pass && l.failed > 0, "{name}");
+        assert!(
+            r.level1.is_none() && r.level2.is_none(),
+            "--model hopper runs no pipe level"
+        );
+    }
+}
+
+#[test]
+fn the_beta_sign_mutant_also_fails_hopper_level_2() {
+    let size = Size::for_tier(Tier::Quick);
+    let m = MUTANTS
+        .into_iter()
+        .find(|(n, _)| *n == "hopper-beta-sign")
+        .unwrap()
+        .1;
+    let r = validate(
+        &Builtin(m),
+        "default",
+        Level::Two,
+        Model::Hopper,
+        Tier::Quick,
+        size,
+        3,
+        &|| {},
+    )
+    .unwrap();
+    assert!(!r.hopper.unwrap().level2.unwrap().pass);
 }
 
 #[test]
 fn every_mutant_fails_level_1() {
     let size = Size::for_tier(Tier::Quick);
-    for (name, m) in MUTANTS {
+    for (name, m) in MUTANTS.into_iter().filter(|(_, m)| !m.is_hopper()) {
         let r = validate(
             &Builtin(m),
             "default",
             Level::One,
+            Model::Pipe,
             Tier::Quick,
             size,
             3,
@@ -109,7 +168,22 @@ fn the_external_example_passes_through_the_contract() {
         .status()
         .unwrap();
     assert!(status.success());
-    assert_eq!(report(&dir)["pass"], true);
+    let r = report(&dir);
+    assert_eq!(r["pass"], true);
+    // the external contract is pipe-only: the hopper is not provided, not passed
+    assert_eq!(r["hopper"]["status"], "not provided by the candidate");
+    assert_eq!(r["hopper"]["provided"], false);
+    let md = std::fs::read_to_string(dir.join("validate/report.md")).unwrap();
+    assert!(md.contains("not provided by the candidate"), "{md}");
+    // asking for the hopper alone of such a candidate is a usage error
+    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
+        .args(["--candidate", &cmd, "--model", "hopper"])
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("provides no hopper engine"));
 }
 
 #[test]

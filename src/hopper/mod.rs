@@ -17,6 +17,7 @@
 //! ```
 
 pub mod energy;
+pub mod engine;
 pub mod experiment;
 pub mod geometry;
 pub mod model;

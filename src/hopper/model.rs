@@ -517,6 +517,32 @@ impl Hopper {
         out
     }
 
+    /// Set site `i` to `value` (`HOLE` or a grain), keeping the grain count
+    /// (prepared states of the engine contract, [`super::engine`]); a fresh
+    /// grain starts at D_i = 1.
+    pub fn set_site(&mut self, i: usize, value: u8) {
+        if is_grain(self.site[i]) {
+            self.added = self.added.saturating_sub(1);
+        }
+        if is_grain(value) {
+            self.added += 1;
+            self.dil[i] = 1.0;
+        }
+        self.site[i] = value;
+    }
+
+    /// Set the running mean spacing D_i of site `i` (prepared states).
+    pub fn set_spacing(&mut self, i: usize, d: f64) {
+        self.dil[i] = d;
+    }
+
+    /// This hopper with another energy table (the mutants of `validate`,
+    /// `crate::validate::mutants`).
+    pub fn with_table(mut self, table: EnergyTable) -> Self {
+        self.table = table;
+        self
+    }
+
     /// Whether the grain at site `i` moved in the last iteration.
     pub fn moving(&self, i: usize) -> bool {
         is_grain(self.site[i]) && motion(grain_state(self.site[i])) != 0

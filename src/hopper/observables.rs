@@ -150,8 +150,12 @@ pub fn order_parameter(h: &Hopper) -> f64 {
 /// lattice axis (up, up-left, up-right) with equal orientation; NaN when no
 /// pair exists at that distance.
 pub fn orientation_correlation(h: &Hopper, rmax: usize) -> Vec<f64> {
-    let g = h.geometry();
-    let sites = h.sites();
+    orientation_correlation_of(h.geometry(), h.sites(), rmax)
+}
+
+/// [`orientation_correlation`] of the site values `sites` of any engine
+/// on the container `g` (the engine contract, [`super::engine`]).
+pub fn orientation_correlation_of(g: &Geometry, sites: &[u8], rmax: usize) -> Vec<f64> {
     let mut equal = vec![0u64; rmax];
     let mut pairs = vec![0u64; rmax];
     for (i, &si) in sites.iter().enumerate() {

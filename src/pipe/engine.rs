@@ -11,6 +11,7 @@
 use super::draws::Draws;
 use super::{Flux, Params, Pipe, Rules};
 use crate::error::Result;
+use crate::hopper::engine::HopperBuilder;
 
 /// One implementation of the pipe automaton (MODEL.md Part A).
 pub trait PipeEngine: Send {
@@ -65,6 +66,11 @@ pub trait EngineBuilder: Sync + Send {
     fn name(&self) -> String;
     /// A new run (validated parameters; the initial state of MODEL.md A8).
     fn build(&self, params: Params, rules: Rules, seed: u64) -> Result<Box<dyn PipeEngine>>;
+    /// The same implementation's hopper engine (MODEL.md Part B), if it has
+    /// one (`crate::hopper::engine`); none by default.
+    fn hopper(&self) -> Option<&dyn HopperBuilder> {
+        None
+    }
 }
 
 /// The reference engine, [`Pipe`].
@@ -77,5 +83,8 @@ impl EngineBuilder for Reference {
     }
     fn build(&self, params: Params, rules: Rules, seed: u64) -> Result<Box<dyn PipeEngine>> {
         Ok(Box::new(Pipe::new(params, rules, seed)?))
+    }
+    fn hopper(&self) -> Option<&dyn HopperBuilder> {
+        Some(&crate::hopper::engine::Reference)
     }
 }

@@ -4,6 +4,7 @@
 //! the external-program contract of VALIDATION.md ([`External`]).
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::hopper::engine::HopperBuilder;
 use crate::pipe::engine::{EngineBuilder, PipeEngine};
 use crate::pipe::{Flux, Params, Rules};
 use serde::{Deserialize, Serialize};
@@ -53,6 +54,11 @@ pub trait Candidate: Sync {
     fn name(&self) -> String;
     /// Run `plan` and return its samples in time order.
     fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>>;
+    /// Its hopper engine (MODEL.md Part B), if it provides one; the
+    /// external-program contract is pipe-only, so none by default.
+    fn hopper(&self) -> Option<&dyn HopperBuilder> {
+        None
+    }
 }
 
 /// A Rust engine behind the [`EngineBuilder`] contract.
@@ -61,6 +67,10 @@ pub struct Builtin<B>(pub B);
 impl<B: EngineBuilder> Candidate for Builtin<B> {
     fn name(&self) -> String {
         self.0.name()
+    }
+
+    fn hopper(&self) -> Option<&dyn HopperBuilder> {
+        self.0.hopper()
     }
 
     fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>> {

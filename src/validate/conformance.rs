@@ -123,7 +123,7 @@ impl Probe {
     }
 
     /// Shift a site of block `k` to block 0.
-    fn to_block0(&self, k: usize, (x, y, s): (usize, usize, u8)) -> (usize, usize, u8) {
+    fn to_block0(self, k: usize, (x, y, s): (usize, usize, u8)) -> (usize, usize, u8) {
         if self.open {
             (x - OPEN_WIDTH * k, y, s)
         } else {

@@ -14,6 +14,7 @@
 
 pub mod candidate;
 pub mod conformance;
+pub mod hopper;
 pub mod mutants;
 pub mod scenes;
 
@@ -41,6 +42,27 @@ pub enum Level {
     Two,
     /// Both.
     All,
+}
+
+/// Which automaton to validate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Model {
+    /// The pipe lattice gas (MODEL.md Part A).
+    Pipe,
+    /// The hopper (MODEL.md Part B), when the candidate provides one.
+    Hopper,
+    /// Both.
+    All,
+}
+
+impl Model {
+    fn pipe(self) -> bool {
+        self != Model::Hopper
+    }
+    fn hopper(self) -> bool {
+        self != Model::Pipe
+    }
 }
 
 /// The candidate named by `spec`: `reference`, `mutant:NAME` or `cmd:COMMAND`.
@@ -83,15 +105,19 @@ pub struct Size {
     pub trials: usize,
     /// Level 2: runs per engine per scene.
     pub runs: usize,
+    /// Hopper level 2: runs per engine per scene.
+    pub hopper_runs: usize,
 }
 
 impl Size {
-    /// quick: 4000 trials, 8 runs; standard: 20000 trials, 16 runs (the
-    /// paper tier is the standard one: the scenes are short by design).
+    /// quick: 4000 trials, 8 runs, 8 hopper runs; standard: 20000 trials,
+    /// 16 runs, 16 hopper runs (the paper tier is the standard one: the
+    /// scenes are short by design).
     pub fn for_tier(tier: Tier) -> Self {
         Size {
             trials: tier.pick(4000, 20000, 20000),
             runs: tier.pick(8, 16, 16),
+            hopper_runs: tier.pick(8, 16, 16),
         }
     }
 }
@@ -115,18 +141,41 @@ pub struct Report {
     pub level1: Option<Level1>,
     /// Level 2, if run.
     pub level2: Option<Level2>,
+    /// Which automata were asked for.
+    pub model: Model,
+    /// The hopper part, if asked for.
+    pub hopper: Option<HopperReport>,
     /// Wall time of the validation.
     pub wall_seconds: f64,
-    /// Every level run passed.
+    /// Every level run passed (a hopper the candidate does not provide is
+    /// not run: the verdict then covers the pipe only).
     pub pass: bool,
 }
 
-/// Run `levels` for `cand` against the reference with the rule reading
-/// `rules`; `tick` is called once per finished job (progress).
+/// The hopper part of a report (VALIDATION.md "Hopper").
+#[derive(Debug, Clone, Serialize)]
+pub struct HopperReport {
+    /// Whether the candidate provides a hopper engine.
+    pub provided: bool,
+    /// `PASS`, `FAIL` or `not provided by the candidate`.
+    pub status: String,
+    /// Level 1 (energies, conflicts, spacings), if run.
+    pub level1: Option<hopper::HopperLevel1>,
+    /// Level 2 (fill-and-empty scenes; its own Holm family), if run.
+    pub level2: Option<Level2>,
+    /// The scenes of level 2.
+    pub scenes: Vec<hopper::HopperScene>,
+}
+
+/// Run `levels` of `model` for `cand` against the reference with the pipe
+/// rule reading `rules`; `tick` is called once per finished job (progress).
+/// Asking for the hopper alone of a candidate without one is an error.
+#[allow(clippy::too_many_arguments)]
 pub fn validate(
     cand: &dyn Candidate,
     rules: &str,
     levels: Level,
+    model: Model,
     tier: Tier,
     size: Size,
     seed: u64,
@@ -134,9 +183,20 @@ pub fn validate(
 ) -> Result<Report> {
     let start = std::time::Instant::now();
     let _: Rules = rules.parse()?;
+    if model == Model::Hopper && cand.hopper().is_none() {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!(
+                "--model hopper: the candidate {} provides no hopper engine (the external-program contract is pipe-only); use --model pipe or all",
+                cand.name()
+            ),
+        ));
+    }
     let params = Params::default();
-    let level1 = match levels {
-        Level::One | Level::All => Some(conformance::level1(
+    let one = levels != Level::Two;
+    let two = levels != Level::One;
+    let level1 = if model.pipe() && one {
+        Some(conformance::level1(
             cand,
             &params,
             rules,
@@ -144,11 +204,12 @@ pub fn validate(
             seed,
             ALPHA,
             tick,
-        )?),
-        Level::Two => None,
+        )?)
+    } else {
+        None
     };
-    let level2 = match levels {
-        Level::Two | Level::All => Some(scenes::level2(
+    let level2 = if model.pipe() && two {
+        Some(scenes::level2(
             &Builtin(Reference),
             cand,
             &scenes::scenes(tier),
@@ -157,10 +218,22 @@ pub fn validate(
             seed,
             ALPHA,
             tick,
-        )?),
-        Level::One => None,
+        )?)
+    } else {
+        None
     };
-    let pass = level1.as_ref().is_none_or(|l| l.pass) && level2.as_ref().is_none_or(|l| l.pass);
+    let hopper = if model.hopper() {
+        Some(hopper_part(cand, levels, tier, size, seed, tick)?)
+    } else {
+        None
+    };
+    let pass = level1.as_ref().is_none_or(|l| l.pass)
+        && level2.as_ref().is_none_or(|l| l.pass)
+        && hopper.as_ref().is_none_or(|h| {
+            !h.provided
+                || (h.level1.as_ref().is_none_or(|l| l.pass)
+                    && h.level2.as_ref().is_none_or(|l| l.pass))
+        });
     Ok(Report {
         candidate: cand.name(),
         rules: rules.parse::<Rules>()?.to_string(),
@@ -170,20 +243,82 @@ pub fn validate(
         size,
         level1,
         level2,
+        model,
+        hopper,
         wall_seconds: start.elapsed().as_secs_f64(),
         pass,
     })
 }
 
+fn hopper_part(
+    cand: &dyn Candidate,
+    levels: Level,
+    tier: Tier,
+    size: Size,
+    seed: u64,
+    tick: &(dyn Fn() + Sync),
+) -> Result<HopperReport> {
+    let scenes = hopper::hopper_scenes(tier);
+    let Some(h) = cand.hopper() else {
+        return Ok(HopperReport {
+            provided: false,
+            status: "not provided by the candidate".into(),
+            level1: None,
+            level2: None,
+            scenes,
+        });
+    };
+    let level1 = if levels != Level::Two {
+        let l = hopper::level1(h, seed)?;
+        tick();
+        Some(l)
+    } else {
+        None
+    };
+    let level2 = if levels != Level::One {
+        Some(hopper::level2(
+            &crate::hopper::engine::Reference,
+            h,
+            &scenes,
+            size.hopper_runs,
+            seed,
+            ALPHA,
+            tick,
+        )?)
+    } else {
+        None
+    };
+    let pass = level1.as_ref().is_none_or(|l| l.pass) && level2.as_ref().is_none_or(|l| l.pass);
+    Ok(HopperReport {
+        provided: true,
+        status: if pass { "PASS" } else { "FAIL" }.into(),
+        level1,
+        level2,
+        scenes,
+    })
+}
+
 /// Jobs [`validate`] reports through `tick`.
-pub fn jobs(levels: Level, tier: Tier, size: Size) -> u64 {
-    let l1 = conformance::probes().len() as u64 * 128;
-    let l2 = 2 * size.runs as u64 * scenes::scenes(tier).len() as u64;
-    match levels {
-        Level::One => l1,
-        Level::Two => l2,
-        Level::All => l1 + l2,
+pub fn jobs(levels: Level, model: Model, tier: Tier, size: Size) -> u64 {
+    let (one, two) = (levels != Level::Two, levels != Level::One);
+    let mut n = 0;
+    if model.pipe() {
+        if one {
+            n += conformance::probes().len() as u64 * 128;
+        }
+        if two {
+            n += 2 * size.runs as u64 * scenes::scenes(tier).len() as u64;
+        }
     }
+    if model.hopper() {
+        if one {
+            n += 1;
+        }
+        if two {
+            n += 2 * size.hopper_runs as u64 * hopper::hopper_scenes(tier).len() as u64;
+        }
+    }
+    n
 }
 
 /// The report as Markdown.
@@ -191,9 +326,14 @@ pub fn markdown(r: &Report) -> String {
     let verdict = |p: bool| if p { "PASS" } else { "FAIL" };
     let mut s = format!(
         "# Validation of `{}` against the reference\n\n\
-         Rules `{}`, tier {}, seed {}, p = {}, g = {}, b = {} (level 1); {:.1} s.\n\n\
+         Model {}, rules `{}`, tier {}, seed {}, p = {}, g = {}, b = {} (pipe level 1); {:.1} s.\n\n\
          **Verdict: {}**\n\n",
         r.candidate,
+        match r.model {
+            Model::Pipe => "pipe",
+            Model::Hopper => "hopper",
+            Model::All => "pipe and hopper",
+        },
         r.rules,
         r.tier.name(),
         r.seed,
@@ -254,5 +394,61 @@ pub fn markdown(r: &Report) -> String {
             ));
         }
     }
+    if let Some(h) = &r.hopper {
+        hopper_markdown(&mut s, h);
+    }
     s
+}
+
+fn hopper_markdown(s: &mut String, h: &HopperReport) {
+    let verdict = |p: bool| if p { "PASS" } else { "FAIL" };
+    s.push_str(&format!("\n## Hopper (MODEL.md Part B) — {}\n\n", h.status));
+    if !h.provided {
+        s.push_str("The candidate provides no hopper engine: the hopper is not validated, and the verdict above covers the pipe only.\n");
+        return;
+    }
+    if let Some(l) = &h.level1 {
+        s.push_str(&format!(
+            "### Hopper level 1: energies, conflicts, spacings — {}\n\n{} energies E_i against the formula of MODEL.md B4, {} conflict set-ups (MODEL.md B3), {} spacings D_i (MODEL.md B4); relative tolerance {:e}; {} differences.\n\n",
+            verdict(l.pass),
+            l.energies,
+            l.conflicts,
+            l.spacings,
+            l.tolerance,
+            l.failed
+        ));
+        if !l.differences.is_empty() {
+            s.push_str("| check | case | rule | candidate |\n|---|---|---|---|\n");
+            for d in l.differences.iter().take(40) {
+                s.push_str(&format!(
+                    "| {} | {} | {:.6} | {:.6} |\n",
+                    d.check, d.case, d.expected, d.observed
+                ));
+            }
+            s.push('\n');
+        }
+    }
+    if let Some(l) = &h.level2 {
+        s.push_str(&format!(
+            "### Hopper level 2: fill-and-empty scenes — {}\n\n{} runs per engine per scene, disjoint seeds; Welch two-sided tests, one Holm family over the hopper observables, family-wise false-alarm rate {}.\n\n\
+             | scene | observable | reference | candidate | difference | p-value | differs |\n|---|---|---|---|---|---|---|\n",
+            verdict(l.pass),
+            l.runs,
+            l.alpha
+        ));
+        for c in &l.comparisons {
+            s.push_str(&format!(
+                "| {} | {} | {:.5} ± {:.5} | {:.5} ± {:.5} | {:+.5} | {:.2e} | {} |\n",
+                c.scene,
+                c.observable,
+                c.reference.0,
+                c.reference.1,
+                c.candidate.0,
+                c.candidate.1,
+                c.difference,
+                c.p_value,
+                if c.differs { "**yes**" } else { "no" }
+            ));
+        }
+    }
 }

@@ -3,6 +3,9 @@
 //! table of EXPERIMENTS.md says which level catches which, at what cost.
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::hopper::energy::{aligned, f_shear, motion, EnergyTable, STATES};
+use crate::hopper::engine::{self as hopper_engine, HopperBuilder, HopperEngine};
+use crate::hopper::{Hopper, HopperParams};
 use crate::pipe::collision::{CollisionTable, Rule};
 use crate::pipe::draws::Draws;
 use crate::pipe::engine::{EngineBuilder, PipeEngine};
@@ -32,10 +35,16 @@ pub enum Mutant {
     /// The random stream has lost its top bit (a signed/unsigned slip): every
     /// probability q is used as min(1, 2q).
     BiasedStream,
+    /// Hopper: the sign of beta flipped, F_orient^(-beta) (MODEL.md B4): an
+    /// aligned pair costs 1/S instead of S. The pipe engine is the reference.
+    HopperBetaSign,
+    /// Hopper: the rays of the spacing one step too long, K + 1 instead of K
+    /// (MODEL.md B4). The pipe engine is the reference.
+    HopperSpacingOffByOne,
 }
 
 /// Every mutant with its name, as `--candidate mutant:NAME` takes it.
-pub const MUTANTS: [(&str, Mutant); 8] = [
+pub const MUTANTS: [(&str, Mutant); 10] = [
     ("p+10%", Mutant::PPlus10),
     ("g+10%", Mutant::GPlus10),
     ("b+10%", Mutant::BPlus10),
@@ -44,6 +53,8 @@ pub const MUTANTS: [(&str, Mutant); 8] = [
     ("r1-same-side", Mutant::R1SameSide),
     ("extras-dropped", Mutant::ExtrasDropped),
     ("biased-stream", Mutant::BiasedStream),
+    ("hopper-beta-sign", Mutant::HopperBetaSign),
+    ("hopper-spacing-off-by-one", Mutant::HopperSpacingOffByOne),
 ];
 
 impl std::str::FromStr for Mutant {
@@ -74,6 +85,11 @@ impl Mutant {
             .find(|(_, m)| *m == self)
             .map(|(n, _)| *n)
             .expect("every mutant is listed")
+    }
+
+    /// Whether the bug is in the hopper engine (else in the pipe engine).
+    pub fn is_hopper(self) -> bool {
+        matches!(self, Mutant::HopperBetaSign | Mutant::HopperSpacingOffByOne)
     }
 }
 
@@ -116,6 +132,10 @@ impl EngineBuilder for Mutant {
         format!("mutant:{}", Mutant::name(*self))
     }
 
+    fn hopper(&self) -> Option<&dyn HopperBuilder> {
+        Some(self)
+    }
+
     fn build(&self, params: Params, rules: Rules, seed: u64) -> Result<Box<dyn PipeEngine>> {
         let (mut params, mut rules) = (params, rules);
         match self {
@@ -153,6 +173,42 @@ impl EngineBuilder for Mutant {
                 Ok(Box::new(pipe.with_draws(draws)))
             }
             _ => Ok(Box::new(pipe)),
+        }
+    }
+}
+
+/// The energy table of [`Mutant::HopperBetaSign`]: F_orient^(-beta).
+fn beta_flipped(params: &HopperParams) -> Result<EnergyTable> {
+    let p = params.energy;
+    let mut t = EnergyTable::new(p)?;
+    for si in 0..STATES {
+        for sn in 0..STATES {
+            let orient = if aligned(si, sn, p.aligned) { p.s } else { 1.0 };
+            t.pair[si * STATES + sn] =
+                f_shear(motion(si), motion(sn)).powf(p.alpha) * orient.powf(-p.beta);
+        }
+    }
+    Ok(t)
+}
+
+impl HopperBuilder for Mutant {
+    fn name(&self) -> String {
+        EngineBuilder::name(self)
+    }
+
+    fn build(&self, params: HopperParams, seed: u64) -> Result<Box<dyn HopperEngine>> {
+        match self {
+            Mutant::HopperBetaSign => {
+                let table = beta_flipped(&params)?;
+                Ok(Box::new(Hopper::new(params, seed)?.with_table(table)))
+            }
+            Mutant::HopperSpacingOffByOne => {
+                let mut p = params;
+                p.dilation.validate()?;
+                p.dilation.k += 1;
+                Ok(Box::new(Hopper::new(p, seed)?))
+            }
+            _ => hopper_engine::Reference.build(params, seed),
         }
     }
 }

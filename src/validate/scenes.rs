@@ -151,7 +151,7 @@ pub fn observables(scene: &Scene, samples: &[Sample]) -> Result<BTreeMap<String,
 }
 
 /// Mean and standard error of `xs`.
-fn mean_se(xs: &[f64]) -> (f64, f64) {
+pub fn mean_se(xs: &[f64]) -> (f64, f64) {
     let n = xs.len() as f64;
     let m = xs.iter().sum::<f64>() / n;
     let v = xs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0);
