@@ -4,6 +4,7 @@
 //!
 //! `cargo run --release --bin waves-fig8 -- --tier quick`
 
+use clap::Parser;
 use granular_automata::cli::PipeArgs;
 use granular_automata::pipe::sweep::{
     fig7_check, plot_alpha_v, points_1d, rise_check, Curve, SweepFigure, FIG7_QUICK_ALPHA_P0,
@@ -11,18 +12,53 @@ use granular_automata::pipe::sweep::{
 use granular_automata::pipe::Params;
 use serde_json::json;
 
+#[derive(Parser)]
+#[command(about = "PH95 Fig. 8: alpha and wave speed against the dissipation p")]
+struct Args {
+    #[command(flatten)]
+    pipe: PipeArgs,
+    /// The dissipation values, separated by commas (default by tier; quick:
+    /// 0,0.05,0.2,0.5,1). Must include 0 and 0.5, the points the checks
+    /// compare; e.g. `--p 0,0.5` for the checks alone.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    p: Vec<f64>,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = PipeArgs::parse_about("PH95 Fig. 8: alpha and wave speed against the dissipation p");
-    let ps: &[f64] = args.common.tier.pick(
+    let Args {
+        pipe: args,
+        p: chosen,
+    } = Args::parse();
+    let by_tier: &[f64] = args.common.tier.pick(
         &[0.0, 0.05, 0.2, 0.5, 1.0][..],
         &[0.0, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0][..],
         &[
             0.0, 0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0,
         ][..],
     );
+    let mut ps = if chosen.is_empty() {
+        by_tier.to_vec()
+    } else {
+        chosen
+    };
+    granular_automata::cli::reject_duplicates("--p", &ps)?;
+    ps.sort_by(f64::total_cmp);
+    if !ps.contains(&0.0) || !ps.contains(&0.5) {
+        return Err(granular_automata::Error::new(
+            granular_automata::ErrorKind::InvalidParameter,
+            format!("--p {ps:?}: must include 0 and 0.5 (the points the checks compare)"),
+        )
+        .into());
+    }
     // rho = 1, b = g = 0.5
     let base = Params::default();
-    let points = points_1d("p", ps, |p| Params { p, ..base });
+    let points = points_1d("p", &ps, |p| Params { p, ..base });
+    for pt in &points {
+        // a bad --p fails before any run, naming the option
+        pt.params
+            .validate()
+            .map_err(|e| granular_automata::Error::new(e.kind, format!("--p: {}", e.message)))?;
+    }
     let Some(fig) = SweepFigure::run("waves-fig8", "PH95 Fig. 8", &args, points)? else {
         return Ok(());
     };

@@ -213,3 +213,29 @@ fn exact_table_matches_hand_calculation() {
     let (d, _) = exact(&bottom, &base, rules, 0b0001_0000).unwrap();
     assert_eq!(d["|0:1:0"], 1.0, "{d:?}");
 }
+
+/// Issue 16 item 3: with fewer than 3 runs a figure's graded checks are
+/// undecided, never passed, and their notes say why (before the one
+/// grading rule, `fig2 --runs 1` reported every error as 0 and passed).
+#[test]
+fn fewer_than_three_runs_decide_nothing_and_say_why() {
+    let dir = out("fig2-runs2");
+    let status = Command::new(env!("CARGO_BIN_EXE_fig2"))
+        .args(["--tier", "quick", "--runs", "2", "--seed", "1", "--out"])
+        .arg(&dir)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let text = std::fs::read_to_string(dir.join("fig2/summary.json")).unwrap();
+    let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let checks = s["checks"].as_array().unwrap();
+    assert!(!checks.is_empty());
+    for c in checks {
+        assert_eq!(c["verdict"], "undecided", "{c}");
+        assert_eq!(c["pass"], false, "{c}");
+        assert_eq!(c["runs"], 2, "{c}");
+        assert!(c["kind"].is_string(), "{c}");
+        let note = c["note"].as_str().unwrap();
+        assert!(note.contains("at least 3 are needed"), "{note}");
+    }
+}

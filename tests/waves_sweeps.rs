@@ -24,7 +24,8 @@ fn args<'a>(extra: &[&'a str]) -> Vec<&'a str> {
 fn fig8_p0_point_agrees_with_fig7_and_a_wrong_reading_fails() {
     let exe = env!("CARGO_BIN_EXE_waves-fig8");
     let files = ["waves-fig8.csv", "waves-fig8_alpha.png", "waves-fig8_v.png"];
-    // 3 runs per point, the fewest the one grading rule decides with (k =
+    // the two points the checks compare (`--p 0,0.5`), 3 runs each, the
+    // fewest the one grading rule decides with (k =
     // t(0.975, 2) = 4.30): alpha must rise from p = 0 to p = 0.5, and the
     // p = 0 point must not contradict waves-fig7 (-0.620 +- 0.028 against
     // -0.602 +- 0.022: k times the combined SE, 0.15, exceeds the margin 0.1,
@@ -32,7 +33,7 @@ fn fig8_p0_point_agrees_with_fig7_and_a_wrong_reading_fails() {
     let s = common::run_figure(
         "waves-fig8",
         exe,
-        &args(&["--runs", "3"]),
+        &args(&["--runs", "3", "--p", "0,0.5"]),
         "default",
         &files,
     );
@@ -47,7 +48,7 @@ fn fig8_p0_point_agrees_with_fig7_and_a_wrong_reading_fails() {
     let w = common::run_figure(
         "waves-fig8",
         exe,
-        &args(&["--runs", "3", "--rules", "any-mover"]),
+        &args(&["--runs", "3", "--p", "0,0.5", "--rules", "any-mover"]),
         "any-mover",
         &files,
     );
