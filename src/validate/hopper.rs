@@ -16,7 +16,7 @@
 //!
 //! [`Hopper`]: crate::hopper::Hopper
 
-use super::scenes::{holm, mean_se, welch, Comparison, Level2, CANDIDATE_SALT};
+use super::scenes::{compare, mean_se, Level2, CANDIDATE_SALT};
 use crate::error::{Error, ErrorKind, Result};
 use crate::hopper::energy::{motion, orientation, state, STATES};
 use crate::hopper::engine::{HopperBuilder, HopperEngine};
@@ -702,28 +702,8 @@ pub fn level2(
     }
     let (r, wr) = run_all(reference, scenes, runs, seed, tick)?;
     let (c, wc) = run_all(cand, scenes, runs, seed ^ CANDIDATE_SALT, tick)?;
-    let mut comparisons = Vec::new();
-    for (si, sc) in scenes.iter().enumerate() {
-        for (name, rv) in &r[si] {
-            let cv = &c[si][name];
-            let (rm, cm) = (mean_se(rv), mean_se(cv));
-            comparisons.push(Comparison {
-                scene: sc.name.into(),
-                observable: name.clone(),
-                reference: rm,
-                candidate: cm,
-                difference: cm.0 - rm.0,
-                p_value: welch(rv, cv),
-                holm_threshold: 0.0,
-                differs: false,
-            });
-        }
-    }
-    let ps: Vec<f64> = comparisons.iter().map(|c| c.p_value).collect();
-    for (c, (thr, rej)) in comparisons.iter_mut().zip(holm(&ps, alpha)) {
-        c.holm_threshold = thr;
-        c.differs = rej;
-    }
+    let names: Vec<&str> = scenes.iter().map(|sc| sc.name).collect();
+    let comparisons = compare(&names, &r, &c, alpha);
     Ok(Level2 {
         runs,
         alpha,

@@ -266,6 +266,40 @@ pub fn holm(ps: &[f64], alpha: f64) -> Vec<(f64, bool)> {
     out
 }
 
+/// Compare every observable of every scene (`names[i]` is scene i):
+/// reference columns `r`, candidate columns `c` (observable -> one value per
+/// run), Welch tests with Holm's correction at family-wise rate `alpha`.
+pub fn compare(
+    names: &[&str],
+    r: &[BTreeMap<String, Vec<f64>>],
+    c: &[BTreeMap<String, Vec<f64>>],
+    alpha: f64,
+) -> Vec<Comparison> {
+    let mut comparisons = Vec::new();
+    for (si, scene) in names.iter().enumerate() {
+        for (name, rv) in &r[si] {
+            let cv = &c[si][name];
+            let (rm, cm) = (mean_se(rv), mean_se(cv));
+            comparisons.push(Comparison {
+                scene: scene.to_string(),
+                observable: name.clone(),
+                reference: rm,
+                candidate: cm,
+                difference: cm.0 - rm.0,
+                p_value: welch(rv, cv),
+                holm_threshold: 0.0,
+                differs: false,
+            });
+        }
+    }
+    let ps: Vec<f64> = comparisons.iter().map(|c| c.p_value).collect();
+    for (c, (thr, rej)) in comparisons.iter_mut().zip(holm(&ps, alpha)) {
+        c.holm_threshold = thr;
+        c.differs = rej;
+    }
+    comparisons
+}
+
 /// Level 2: compare `cand` with `reference` on every scene.
 #[allow(clippy::too_many_arguments)]
 pub fn level2(
@@ -287,28 +321,8 @@ pub fn level2(
     }
     let r = run_scenes(reference, scenes, rules, runs, seed, tick)?;
     let c = run_scenes(cand, scenes, rules, runs, seed ^ CANDIDATE_SALT, tick)?;
-    let mut comparisons = Vec::new();
-    for (si, sc) in scenes.iter().enumerate() {
-        for (name, rv) in &r[si] {
-            let cv = &c[si][name];
-            let (rm, cm) = (mean_se(rv), mean_se(cv));
-            comparisons.push(Comparison {
-                scene: sc.name.into(),
-                observable: name.clone(),
-                reference: rm,
-                candidate: cm,
-                difference: cm.0 - rm.0,
-                p_value: welch(rv, cv),
-                holm_threshold: 0.0,
-                differs: false,
-            });
-        }
-    }
-    let ps: Vec<f64> = comparisons.iter().map(|c| c.p_value).collect();
-    for (c, (thr, rej)) in comparisons.iter_mut().zip(holm(&ps, alpha)) {
-        c.holm_threshold = thr;
-        c.differs = rej;
-    }
+    let names: Vec<&str> = scenes.iter().map(|sc| sc.name).collect();
+    let comparisons = compare(&names, &r, &c, alpha);
     let site_updates = 2.0
         * runs as f64
         * scenes
