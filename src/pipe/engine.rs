@@ -31,6 +31,35 @@ pub trait PipeEngine: Send {
     fn channel_counts(&self) -> [u64; 7];
     /// Injection and outflow counters (open pipe, MODEL.md A7).
     fn flux(&self) -> Flux;
+    /// The rule reading of this run.
+    fn rules(&self) -> Rules;
+    /// Change the dissipation p mid-run (PH94 Fig. 1c); validated.
+    fn set_p(&mut self, p: f64) -> Result<()>;
+    /// Advance `steps` steps.
+    fn run(&mut self, steps: u64) -> Result<()> {
+        for _ in 0..steps {
+            self.step()?;
+        }
+        Ok(())
+    }
+    /// Total number of particles N (all channels).
+    fn particle_count(&self) -> u64 {
+        self.channel_counts().iter().sum()
+    }
+    /// Kinetic energy E = number of moving particles \[PH95 Fig. 3b\].
+    fn moving_count(&self) -> u64 {
+        self.channel_counts()[1..].iter().sum()
+    }
+    /// Number of rest particles.
+    fn rest_count(&self) -> u64 {
+        self.channel_counts()[0]
+    }
+    /// Particle count of bin `i` alone (MODEL.md A9).
+    fn bin_count(&self, i: usize) -> u32 {
+        let mut out = vec![0.0; self.params().bins()];
+        self.fill_bin_counts(&mut out);
+        out[i] as u32
+    }
 }
 
 impl<D: Draws + Send> PipeEngine for Pipe<D> {
@@ -57,6 +86,24 @@ impl<D: Draws + Send> PipeEngine for Pipe<D> {
     }
     fn flux(&self) -> Flux {
         Pipe::flux(self)
+    }
+    fn rules(&self) -> Rules {
+        Pipe::rules(self)
+    }
+    fn set_p(&mut self, p: f64) -> Result<()> {
+        Pipe::set_p(self, p)
+    }
+    fn particle_count(&self) -> u64 {
+        Pipe::particle_count(self)
+    }
+    fn moving_count(&self) -> u64 {
+        Pipe::moving_count(self)
+    }
+    fn rest_count(&self) -> u64 {
+        Pipe::rest_count(self)
+    }
+    fn bin_count(&self, i: usize) -> u32 {
+        Pipe::bin_count(self, i)
     }
 }
 
