@@ -21,6 +21,7 @@ pub mod claims;
 pub mod collision;
 pub mod draws;
 pub mod engine;
+pub mod fast;
 pub mod observables;
 pub mod open;
 pub mod overlap;

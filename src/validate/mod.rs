@@ -70,6 +70,9 @@ pub fn candidate_from(spec: &str) -> Result<Box<dyn Candidate>> {
     if spec == "reference" {
         return Ok(Box::new(Builtin(Reference)));
     }
+    if spec == "fast" {
+        return Ok(Box::new(Builtin(crate::pipe::fast::Fast)));
+    }
     if let Some(name) = spec.strip_prefix("mutant:") {
         let m: mutants::Mutant = name.parse()?;
         return Ok(Box::new(Builtin(m)));
@@ -88,7 +91,7 @@ pub fn candidate_from(spec: &str) -> Result<Box<dyn Candidate>> {
     Err(Error::new(
         ErrorKind::InvalidParameter,
         format!(
-            "--candidate {spec} is not known; use reference, mutant:NAME (one of: {}) or cmd:'COMMAND'",
+            "--candidate {spec} is not known; use reference, fast, mutant:NAME (one of: {}) or cmd:'COMMAND'",
             mutants::MUTANTS
                 .iter()
                 .map(|(n, _)| *n)

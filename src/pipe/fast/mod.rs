@@ -1,0 +1,756 @@
+//! A fast, bit-sliced engine of the pipe lattice gas (issue 13): the rules
+//! of MODEL.md Part A on 64 sites at once, with the outcome probabilities of
+//! the reference engine [`super::Pipe`] exactly (same thresholds), but not
+//! its sequence of draws: a run of [`FastPipe`] is a different sample of the
+//! same process, a pure function of (parameters, rules, seed).
+//!
+//! Layout ([`grid`]): for every column and channel one bit per row, so that
+//! propagation is a shift along the column and every site rule is a few
+//! Boolean operations on words. Random decisions ([`lanes`]) compare one
+//! 32-bit uniform number per lane with the reference's threshold, drawing
+//! its bits only as long as the comparison is undecided. The extra rest
+//! particles of R4/R5 are relocated one by one by the scalar walk of the
+//! reference (MODEL.md A4). Every rule reading of [`Rules`] is supported.
+//!
+//! ```
+//! use granular_automata::pipe::engine::PipeEngine;
+//! use granular_automata::pipe::fast::FastPipe;
+//! use granular_automata::pipe::{Params, Rules};
+//! let params = Params { length: 60, width: 5, ..Params::default() };
+//! let mut pipe = FastPipe::new(params, Rules::default(), 7).unwrap();
+//! let n0 = pipe.particle_count();
+//! pipe.run(100).unwrap();
+//! assert_eq!(pipe.particle_count(), n0); // the periodic pipe conserves mass
+//! ```
+
+pub mod grid;
+pub mod lanes;
+pub mod logic;
+
+use super::collision::{bit, threshold, CollisionTable, Entry};
+use super::engine::{EngineBuilder, PipeEngine};
+use super::{Boundary, Flux, Params, RestPlacement, Rules};
+use crate::error::{check_unit, Error, ErrorKind, Result};
+use crate::lattice::neighbour;
+use grid::{bit_range, site_totals, Grid, Word};
+use logic::{Decisions, Moves};
+use rand::SeedableRng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+/// The thresholds of the collision draws, read from the reference's table
+/// (MODEL.md A3), so that every outcome has its probability there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CollisionThresholds {
+    /// R1: U below it takes {c+1, c+4} (1/2).
+    pub r1: u64,
+    /// R2: U below it dissipates (p; 0 when p = 0, 2^32 when p = 1).
+    pub r2: u64,
+    /// R3: the cumulative thresholds of the outcomes {0, c+j, c+j+3},
+    /// j = 0, 1, 2 (p/3 each); U above the last one leaves the state.
+    pub r3: [u64; 3],
+}
+
+/// The interval of uniform draws that picks `outcome` in `entry`, if any.
+fn interval(entry: &Entry, outcome: u8) -> Option<(u64, u64)> {
+    let j = entry.outcomes.iter().position(|o| o.state == outcome)?;
+    let lo = if j == 0 { 0 } else { entry.cumulative[j - 1] };
+    Some((lo, entry.cumulative[j]))
+}
+
+impl CollisionThresholds {
+    /// The thresholds of `table`, from the states {1, 4} (R1), {1, 3} (R2)
+    /// and {1, 3, 5} (R3); every rotation of a rule has the same
+    /// probabilities (checked state by state in the tests of [`logic`]).
+    pub fn new(table: &CollisionTable) -> Self {
+        let set = |cs: &[usize]| cs.iter().fold(0u8, |s, &c| s | bit(c));
+        let first = |state: &[usize], out: &[usize]| -> Option<u64> {
+            let (lo, hi) = interval(&table.entries[set(state) as usize], set(out))?;
+            assert_eq!(lo, 0, "the outcome is the table's first");
+            Some(hi)
+        };
+        let r1 = first(&[1, 4], &[2, 5]).expect("R1 rotates");
+        let r2 = first(&[1, 3], &[0, 2]).unwrap_or(0);
+        let e3 = &table.entries[set(&[1, 3, 5]) as usize];
+        let mut r3 = [0u64; 3];
+        let mut below = 0;
+        for (j, out) in [[0, 1, 4], [0, 2, 5], [0, 3, 6]].iter().enumerate() {
+            if let Some((lo, hi)) = interval(e3, set(out)) {
+                assert_eq!(lo, below, "R3 outcomes in order");
+                below = hi;
+            }
+            r3[j] = below;
+        }
+        CollisionThresholds { r1, r2, r3 }
+    }
+}
+
+/// The fast engine: the state as bit planes, the run's generator, counters.
+#[derive(Debug, Clone)]
+pub struct FastPipe {
+    params: Params,
+    rules: Rules,
+    rng: Xoshiro256PlusPlus,
+    grid: Grid,
+    next: Grid,
+    collision: CollisionThresholds,
+    g_t: u64,
+    b_t: u64,
+    inject_t: u64,
+    /// Per column: the channels that leave the open pipe through the bottom
+    /// from row 0, and through the top from row L-1 (MODEL.md A7).
+    exits: Vec<(u8, u8)>,
+    /// (bin, word, rows of the word in the bin), bin by bin (MODEL.md A9).
+    segments: Vec<(usize, usize, u64)>,
+    /// First segment of each bin, and one past the last.
+    bin_start: Vec<usize>,
+    /// Sites (y W + x) of the extra rest particles of this step.
+    extras: Vec<u64>,
+    time: u64,
+    flux: Flux,
+}
+
+impl FastPipe {
+    /// A new run: validates `params` as [`super::Pipe::new`] does, and draws
+    /// the initial state of MODEL.md A8 (each moving channel occupied with
+    /// probability rho/6; the open pipe starts empty).
+    pub fn new(params: Params, rules: Rules, seed: u64) -> Result<Self> {
+        params.validate()?;
+        let (w, l) = (params.width, params.length);
+        let mut pipe = FastPipe {
+            params,
+            rules,
+            rng: Xoshiro256PlusPlus::seed_from_u64(seed),
+            grid: Grid::new(w, l),
+            next: Grid::new(w, l),
+            collision: CollisionThresholds::new(&CollisionTable::new(params.p)),
+            g_t: threshold(params.g),
+            b_t: threshold(params.b),
+            inject_t: match params.boundary {
+                Boundary::Open { inject } => threshold(inject),
+                Boundary::Periodic => 0,
+            },
+            exits: (0..w).map(|x| exit_channels(x, w, l)).collect(),
+            segments: Vec::new(),
+            bin_start: Vec::new(),
+            extras: Vec::new(),
+            time: 0,
+            flux: Flux::default(),
+        };
+        pipe.build_segments();
+        if params.boundary == Boundary::Periodic {
+            let t = threshold(params.rho / 6.0);
+            let words = pipe.grid.words();
+            for (i, word) in pipe.grid.cells_mut().iter_mut().enumerate() {
+                let lanes = if (i + 1) % words == 0 {
+                    bit_range(0, l - 64 * (words - 1))
+                } else {
+                    u64::MAX
+                };
+                for plane in &mut word[1..] {
+                    *plane = lanes::bernoulli(&mut pipe.rng, t, lanes);
+                }
+            }
+        }
+        Ok(pipe)
+    }
+
+    fn build_segments(&mut self) {
+        let bin = self.params.bin;
+        for i in 0..self.params.bins() {
+            self.bin_start.push(self.segments.len());
+            let (lo, hi) = (i * bin, (i + 1) * bin);
+            for k in lo / 64..hi.div_ceil(64) {
+                let (a, b) = (lo.max(64 * k) - 64 * k, hi.min(64 * k + 64) - 64 * k);
+                self.segments.push((i, k, bit_range(a, b)));
+            }
+        }
+        self.bin_start.push(self.segments.len());
+    }
+
+    /// Empty every site (prepared states).
+    pub fn clear(&mut self) {
+        self.grid.clear();
+    }
+
+    /// The parameters of this run.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// The rule reading of this run.
+    pub fn rules(&self) -> Rules {
+        self.rules
+    }
+
+    /// Steps done so far.
+    pub fn time(&self) -> u64 {
+        self.time
+    }
+
+    /// Injection and outflow counters (open pipe, MODEL.md A7).
+    pub fn flux(&self) -> Flux {
+        self.flux
+    }
+
+    /// Change the dissipation p mid-run (PH94 Fig. 1c); validated.
+    pub fn set_p(&mut self, p: f64) -> Result<()> {
+        check_unit("p", p)?;
+        self.params.p = p;
+        self.collision = CollisionThresholds::new(&CollisionTable::new(p));
+        Ok(())
+    }
+
+    fn check_site(&self, x: usize, y: usize) {
+        assert!(
+            x < self.params.width && y < self.params.length,
+            "site ({x}, {y}) outside the pipe"
+        );
+    }
+
+    /// The state byte of site (x, y) (bit c = channel c).
+    pub fn site(&self, x: usize, y: usize) -> u8 {
+        self.check_site(x, y);
+        self.grid.site(x, y)
+    }
+
+    /// Set the state byte of site (x, y) (bits above 6 are ignored).
+    pub fn set_site(&mut self, x: usize, y: usize, state: u8) {
+        self.check_site(x, y);
+        self.grid.set_site(x, y, state & 0x7f);
+    }
+
+    /// Advance `steps` steps.
+    pub fn run(&mut self, steps: u64) -> Result<()> {
+        for _ in 0..steps {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// One time step in the order of MODEL.md A2: injection (open pipe),
+    /// collisions with relocation and gravity (gravity first with
+    /// `gravity-first`), `wall-drag`, `wall-move`, propagation.
+    pub fn step(&mut self) -> Result<()> {
+        if let Boundary::Open { .. } = self.params.boundary {
+            self.inject();
+        }
+        if self.rules.gravity_first {
+            self.gravity();
+            self.collide()?;
+        } else {
+            self.collide()?;
+            self.gravity();
+        }
+        if self.rules.wall_drag {
+            self.wall_drag();
+        }
+        if self.rules.wall_move {
+            self.wall_move();
+        }
+        self.propagate();
+        self.time += 1;
+        Ok(())
+    }
+
+    /// Injection (MODEL.md A7): each empty channel 3, 4, 5 of the top row
+    /// is filled with probability I; the columns are taken 64 at a time.
+    fn inject(&mut self) {
+        let (w, l) = (self.params.width, self.params.length);
+        let (k, j) = ((l - 1) / 64, (l - 1) % 64);
+        let words = self.grid.words();
+        for first in (0..w).step_by(64) {
+            let n = (w - first).min(64);
+            for c in [3, 4, 5] {
+                let cells = self.grid.cells_mut();
+                let site = |x: usize| (first + x) * words + k;
+                let empty = (0..n).fold(0u64, |m, x| m | (!cells[site(x)][c] >> j & 1) << x);
+                let fill = lanes::bernoulli(&mut self.rng, self.inject_t, empty);
+                for x in 0..n {
+                    cells[site(x)][c] |= (fill >> x & 1) << j;
+                }
+                self.flux.injected += fill.count_ones() as u64;
+            }
+        }
+    }
+
+    /// Collision step (MODEL.md A3) on every word: classify, draw the
+    /// decisions the classes need, apply; then relocation (A4).
+    fn collide(&mut self) -> Result<()> {
+        self.extras.clear();
+        let (w, words) = (self.params.width as u64, self.grid.words());
+        let t = self.collision;
+        for (i, s) in self.grid.cells_mut().iter_mut().enumerate() {
+            let k = logic::classify(s);
+            if k.any() == 0 {
+                continue;
+            }
+            let d = Decisions {
+                r1: lanes::bernoulli(&mut self.rng, t.r1, k.any_r1()),
+                r2: lanes::bernoulli(&mut self.rng, t.r2, k.any_r2()),
+                r3: lanes::below_each(&mut self.rng, t.r3, k.any_r3()),
+            };
+            let out = logic::collide(s, &k, &d);
+            *s = out.state;
+            let extra = out.one_extra | out.two_extras;
+            if extra != 0 {
+                let (x, y0) = ((i / words) as u64, 64 * (i % words) as u64);
+                let mut m = extra;
+                while m != 0 {
+                    let j = m.trailing_zeros() as u64;
+                    let site = (y0 + j) * w + x;
+                    self.extras.push(site);
+                    if out.two_extras >> j & 1 == 1 {
+                        self.extras.push(site);
+                    }
+                    m &= m - 1;
+                }
+            }
+        }
+        if self.extras.is_empty() {
+            Ok(())
+        } else {
+            self.relocate()
+        }
+    }
+
+    /// Relocation of the extra rest particles (MODEL.md A4), as the
+    /// reference: the validity check first, then the sites in row-major
+    /// order (row by row from the bottom, left to right), one particle at a
+    /// time, by `rest-up` or the random walk.
+    fn relocate(&mut self) -> Result<()> {
+        let sites = self.params.sites() as u64;
+        let total = self.rest_count() + self.extras.len() as u64;
+        if total > sites {
+            let p = &self.params;
+            return Err(Error::new(
+                ErrorKind::RestExceedsSites,
+                format!(
+                    "at step {}: {} rest particles for {} sites (rho = {}, p = {}, g = {}, b = {}, W = {}, L = {}); \
+                     the model is undefined here [PH95 G]: lower rho or p",
+                    self.time, total, sites, p.rho, p.p, p.g, p.b, p.width, p.length
+                ),
+            ));
+        }
+        let mut extras = std::mem::take(&mut self.extras);
+        extras.sort_unstable();
+        let w = self.params.width as u64;
+        for &site in &extras {
+            let (x, y) = ((site % w) as usize, (site / w) as usize);
+            let placed = match self.rules.rest {
+                RestPlacement::RestUp => self.place_above(x, y),
+                RestPlacement::RandomWalk => false,
+            };
+            if !placed {
+                self.random_walk(x, y)?;
+            }
+        }
+        self.extras = extras;
+        Ok(())
+    }
+
+    /// `rest-up` (MODEL.md A4): the nearest site above in the column with an
+    /// empty rest channel (wrapping in the periodic pipe).
+    fn place_above(&mut self, x: usize, y: usize) -> bool {
+        let l = self.params.length;
+        let periodic = self.params.boundary == Boundary::Periodic;
+        for d in 1..l {
+            let mut ny = y + d;
+            if ny >= l {
+                if !periodic {
+                    return false;
+                }
+                ny -= l;
+            }
+            if !self.grid.get(x, ny, 0) {
+                self.grid.set(x, ny, 0);
+                return true;
+            }
+        }
+        false
+    }
+
+    /// The random walk of MODEL.md A4: hops to a uniformly chosen
+    /// neighbour (walls, and rows beyond the open ends, excluded) until a
+    /// site with an empty rest channel is reached; bounded as the reference.
+    fn random_walk(&mut self, mut x: usize, mut y: usize) -> Result<()> {
+        let (w, l) = (self.params.width as i64, self.params.length as i64);
+        let periodic = self.params.boundary == Boundary::Periodic;
+        let bound = 1000 * self.params.sites() as u64 + 1_000_000;
+        for _ in 0..bound {
+            let mut cand = [(0usize, 0usize); 6];
+            let mut n = 0;
+            for c in 1..=6 {
+                let (nx, mut ny) = neighbour(x, y, c);
+                if nx < 0 || nx >= w {
+                    continue;
+                }
+                if periodic {
+                    ny = ny.rem_euclid(l);
+                } else if ny < 0 || ny >= l {
+                    continue;
+                }
+                cand[n] = (nx as usize, ny as usize);
+                n += 1;
+            }
+            if n == 0 {
+                break;
+            }
+            (x, y) = cand[lanes::below(&mut self.rng, n as u32) as usize];
+            if !self.grid.get(x, y, 0) {
+                self.grid.set(x, y, 0);
+                return Ok(());
+            }
+        }
+        Err(Error::new(
+            ErrorKind::RelocationStuck,
+            format!(
+                "at step {}: an extra rest particle found no empty rest channel within {bound} hops \
+                 (W = {}, L = {}, rho = {}, p = {}); the lattice is (nearly) full of rest particles: lower rho or p",
+                self.time, self.params.width, self.params.length, self.params.rho, self.params.p
+            ),
+        ))
+    }
+
+    /// Gravity step (MODEL.md A5): the moves possible before gravity, each
+    /// made with probability g (an independent draw per particle), then
+    /// `rest-slide` if named.
+    fn gravity(&mut self) {
+        if self.g_t == 0 {
+            return;
+        }
+        let (g, wording, slide) = (self.g_t, self.rules.gravity, self.rules.rest_slide);
+        for s in self.grid.cells_mut().iter_mut() {
+            let m = logic::gravity_moves(s, wording);
+            let made = Moves {
+                fall: lanes::bernoulli(&mut self.rng, g, m.fall),
+                turn2: lanes::bernoulli(&mut self.rng, g, m.turn2),
+                turn6: lanes::bernoulli(&mut self.rng, g, m.turn6),
+                stop: lanes::bernoulli(&mut self.rng, g, m.stop),
+            };
+            let after = logic::apply_moves(s, &made);
+            *s = if slide {
+                Self::rest_slide(&mut self.rng, g, s, &after)
+            } else {
+                after
+            };
+        }
+    }
+
+    /// `rest-slide` (MODEL.md A5): a rest particle blocked by an occupied
+    /// channel 4 slides down a free diagonal with probability g (a fair coin
+    /// when both are free).
+    fn rest_slide(rng: &mut Xoshiro256PlusPlus, g: u64, before: &Word, after: &Word) -> Word {
+        let slid = lanes::bernoulli(rng, g, logic::slide_candidates(before, after));
+        let coin = lanes::coins(rng, logic::slide_choices(after, slid));
+        logic::apply_slide(after, slid, coin)
+    }
+
+    /// The wall columns: 0 and W-1, the one column when W = 1 (MODEL.md A6).
+    fn wall_columns(&self) -> Vec<usize> {
+        let w = self.params.width;
+        if w == 1 {
+            vec![0]
+        } else {
+            vec![0, w - 1]
+        }
+    }
+
+    /// `wall-drag` (MODEL.md A6 variant): in a wall column a lone mover
+    /// along the wall (1 or 4) is reversed with probability b.
+    fn wall_drag(&mut self) {
+        for x in self.wall_columns() {
+            for k in 0..self.grid.words() {
+                let s = &mut self.grid.column_mut(x)[k];
+                let flip = lanes::bernoulli(&mut self.rng, self.b_t, s[1] ^ s[4]);
+                s[1] ^= flip;
+                s[4] ^= flip;
+            }
+        }
+    }
+
+    /// `wall-move` (MODEL.md A6, the default): particles heading into a wall
+    /// are reflected before propagation (same draws as A6), where the
+    /// reflected channels are empty, so that they move this step.
+    fn wall_move(&mut self) {
+        let w = self.params.width;
+        if w == 1 {
+            return;
+        }
+        // (column, the channels into the wall, the reflected channels)
+        for (x, into, out) in [(0, [2, 3], [5, 6]), (w - 1, [6, 5], [3, 2])] {
+            for k in 0..self.grid.words() {
+                let s = &mut self.grid.column_mut(x)[k];
+                let (a, b) = (s[into[0]], s[into[1]]);
+                let bounce = lanes::bernoulli(&mut self.rng, self.b_t, a ^ b);
+                let (ra, rb) = logic::reflect(a, b, bounce);
+                let free = (a | b) & !(s[out[0]] & ra) & !(s[out[1]] & rb);
+                s[into[0]] &= !free;
+                s[into[1]] &= !free;
+                s[out[0]] |= ra & free;
+                s[out[1]] |= rb & free;
+            }
+        }
+    }
+
+    /// Propagation (MODEL.md A2 step 4) with the walls of A6 and the ends
+    /// of A7: count what leaves the open pipe, stream, reflect at the walls.
+    fn propagate(&mut self) {
+        let periodic = self.params.boundary == Boundary::Periodic;
+        if !periodic {
+            self.count_exits();
+        }
+        self.grid.stream_into(&mut self.next, periodic);
+        self.reflect_at_walls();
+        std::mem::swap(&mut self.grid, &mut self.next);
+    }
+
+    /// Particles that propagation moves out through the ends of the open
+    /// pipe (MODEL.md A7): below row 0 (out_bottom), above row L-1 (out_top);
+    /// those heading into a wall are reflected instead.
+    fn count_exits(&mut self) {
+        let l = self.params.length;
+        for (x, &(down, up)) in self.exits.iter().enumerate() {
+            self.flux.out_bottom += (self.grid.site(x, 0) & down).count_ones() as u64;
+            self.flux.out_top += (self.grid.site(x, l - 1) & up).count_ones() as u64;
+        }
+    }
+
+    /// The wall rule of MODEL.md A6 in place: particles of the wall columns
+    /// heading into a wall stay and are bounced back (probability b) or
+    /// mirrored; their reflected channels have no other source.
+    fn reflect_at_walls(&mut self) {
+        let last = self.params.width - 1;
+        // (column, the channels into the wall, the reflected channels)
+        for (x, into, out) in [(0, [2, 3], [5, 6]), (last, [6, 5], [3, 2])] {
+            for k in 0..self.grid.words() {
+                let s = &self.grid.column(x)[k];
+                let (a, b) = (s[into[0]], s[into[1]]);
+                let bounce = lanes::bernoulli(&mut self.rng, self.b_t, a ^ b);
+                let (ra, rb) = logic::reflect(a, b, bounce);
+                let n = &mut self.next.column_mut(x)[k];
+                n[out[0]] |= ra;
+                n[out[1]] |= rb;
+            }
+        }
+    }
+
+    /// Number of particles in each channel 0..=6.
+    pub fn channel_counts(&self) -> [u64; 7] {
+        self.grid.channel_counts()
+    }
+
+    fn count(&self, channels: std::ops::Range<usize>) -> u64 {
+        self.grid
+            .cells()
+            .iter()
+            .map(|w| {
+                w[channels.clone()]
+                    .iter()
+                    .map(|p| p.count_ones() as u64)
+                    .sum::<u64>()
+            })
+            .sum()
+    }
+
+    /// Total number of particles N.
+    pub fn particle_count(&self) -> u64 {
+        self.count(0..7)
+    }
+
+    /// Kinetic energy E = number of moving particles.
+    pub fn moving_count(&self) -> u64 {
+        self.count(1..7)
+    }
+
+    /// Number of rest particles.
+    pub fn rest_count(&self) -> u64 {
+        self.count(0..1)
+    }
+
+    /// Bin densities n_i (MODEL.md A9) into `out` (length K): per word the
+    /// particle numbers of its sites as three bit planes, then masked
+    /// population counts of the rows of each bin.
+    pub fn fill_bin_counts(&self, out: &mut [f64]) {
+        out.iter_mut().for_each(|v| *v = 0.0);
+        for x in 0..self.params.width {
+            let col = self.grid.column(x);
+            let mut current = (usize::MAX, [0u64; 3]);
+            for &(i, k, mask) in &self.segments {
+                if current.0 != k {
+                    current = (k, site_totals(&col[k]));
+                }
+                let [a, b, c] = current.1;
+                out[i] += ((a & mask).count_ones()
+                    + 2 * (b & mask).count_ones()
+                    + 4 * (c & mask).count_ones()) as f64;
+            }
+        }
+    }
+
+    /// Particle count of bin `i` alone (MODEL.md A9).
+    pub fn bin_count(&self, i: usize) -> u32 {
+        let segments = &self.segments[self.bin_start[i]..self.bin_start[i + 1]];
+        (0..self.params.width)
+            .map(|x| {
+                let col = self.grid.column(x);
+                segments
+                    .iter()
+                    .map(|&(_, k, mask)| {
+                        col[k].iter().map(|p| (p & mask).count_ones()).sum::<u32>()
+                    })
+                    .sum::<u32>()
+            })
+            .sum()
+    }
+}
+
+/// The channels by which a particle of column `x` leaves the open pipe
+/// through the bottom from row 0 and through the top from row L-1: those
+/// whose neighbour (MODEL.md A1) lies beyond the end and inside the walls.
+fn exit_channels(x: usize, w: usize, l: usize) -> (u8, u8) {
+    let mut bottom = 0u8;
+    let mut top = 0u8;
+    for c in 1..=6 {
+        let inside = |nx: i64| nx >= 0 && nx < w as i64;
+        let (nx, ny) = neighbour(x, 0, c);
+        if inside(nx) && ny < 0 {
+            bottom |= bit(c);
+        }
+        let (nx, ny) = neighbour(x, l - 1, c);
+        if inside(nx) && ny >= l as i64 {
+            top |= bit(c);
+        }
+    }
+    (bottom, top)
+}
+
+impl PipeEngine for FastPipe {
+    fn params(&self) -> &Params {
+        FastPipe::params(self)
+    }
+    fn step(&mut self) -> Result<()> {
+        FastPipe::step(self)
+    }
+    fn run(&mut self, steps: u64) -> Result<()> {
+        FastPipe::run(self, steps)
+    }
+    fn time(&self) -> u64 {
+        FastPipe::time(self)
+    }
+    fn site(&self, x: usize, y: usize) -> u8 {
+        FastPipe::site(self, x, y)
+    }
+    fn set_site(&mut self, x: usize, y: usize, state: u8) {
+        FastPipe::set_site(self, x, y, state)
+    }
+    fn fill_bin_counts(&self, out: &mut [f64]) {
+        FastPipe::fill_bin_counts(self, out)
+    }
+    fn channel_counts(&self) -> [u64; 7] {
+        FastPipe::channel_counts(self)
+    }
+    fn flux(&self) -> Flux {
+        FastPipe::flux(self)
+    }
+    fn rules(&self) -> Rules {
+        FastPipe::rules(self)
+    }
+    fn set_p(&mut self, p: f64) -> Result<()> {
+        FastPipe::set_p(self, p)
+    }
+    fn particle_count(&self) -> u64 {
+        FastPipe::particle_count(self)
+    }
+    fn moving_count(&self) -> u64 {
+        FastPipe::moving_count(self)
+    }
+    fn rest_count(&self) -> u64 {
+        FastPipe::rest_count(self)
+    }
+    fn bin_count(&self, i: usize) -> u32 {
+        FastPipe::bin_count(self, i)
+    }
+}
+
+/// Builds [`FastPipe`] runs: the engine `fast` of `validate` and the figures.
+/// Every rule reading of [`Rules`] is supported (all three gravity
+/// wordings, `wall-drag`, `gravity-first`, `rest-up`, `wall-move`,
+/// `rest-slide`), so `build` fails only on invalid parameters.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Fast;
+
+impl EngineBuilder for Fast {
+    fn name(&self) -> String {
+        "fast".into()
+    }
+    fn build(&self, params: Params, rules: Rules, seed: u64) -> Result<Box<dyn PipeEngine>> {
+        Ok(Box::new(FastPipe::new(params, rules, seed)?))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thresholds_follow_p() {
+        let t = CollisionThresholds::new(&CollisionTable::new(0.0));
+        assert_eq!((t.r1, t.r2, t.r3), (1 << 31, 0, [0, 0, 0]));
+        let t = CollisionThresholds::new(&CollisionTable::new(1.0));
+        assert_eq!((t.r2, t.r3[2]), (1 << 32, 1 << 32));
+        let t = CollisionThresholds::new(&CollisionTable::new(0.5));
+        assert_eq!(t.r2, 1 << 31);
+        assert_eq!(t.r3, [threshold(0.5 / 3.0), threshold(1.0 / 3.0), 1 << 31]);
+    }
+
+    #[test]
+    fn bins_cover_every_row_once() {
+        for (l, bin) in [(220, 10), (130, 65), (128, 64), (7, 7), (10, 1), (2200, 10)] {
+            let p = Params {
+                width: 3,
+                length: l,
+                bin,
+                ..Params::default()
+            };
+            let pipe = FastPipe::new(p, Rules::default(), 1).unwrap();
+            let mut n = vec![0.0; p.bins()];
+            pipe.fill_bin_counts(&mut n);
+            assert_eq!(n.iter().sum::<f64>(), pipe.particle_count() as f64);
+            for (i, &v) in n.iter().enumerate() {
+                assert_eq!(pipe.bin_count(i) as f64, v);
+                let direct: u32 = (0..3)
+                    .flat_map(|x| (i * bin..(i + 1) * bin).map(move |y| (x, y)))
+                    .map(|(x, y)| pipe.site(x, y).count_ones())
+                    .sum();
+                assert_eq!(direct as f64, v, "L {l} bin {bin} i {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_start_has_density_rho() {
+        let p = Params {
+            length: 2200,
+            rho: 1.5,
+            ..Params::default()
+        };
+        let pipe = FastPipe::new(p, Rules::default(), 3).unwrap();
+        let n = pipe.moving_count() as f64;
+        let mean = 1.5 * p.sites() as f64;
+        assert!(
+            (n - mean).abs() < 5.0 * (mean * 0.75).sqrt(),
+            "{n} vs {mean}"
+        );
+        assert_eq!(pipe.rest_count(), 0);
+        let open = Params {
+            boundary: Boundary::Open { inject: 0.5 },
+            ..p
+        };
+        assert_eq!(
+            FastPipe::new(open, Rules::default(), 3)
+                .unwrap()
+                .particle_count(),
+            0
+        );
+    }
+}

@@ -1,0 +1,538 @@
+//! The fast, bit-sliced engine (`granular_automata::pipe::fast`, issue 13)
+//! against the reference engine `Pipe`: site by site wherever a step has no
+//! random choice, conservation and bookkeeping (MODEL.md A7), the same
+//! errors, and the observables of one state. Its random steps are compared
+//! with the reference's exact one-step tables by `validate --candidate fast`.
+
+use granular_automata::pipe::draws::Draws;
+use granular_automata::pipe::engine::{EngineBuilder, PipeEngine};
+use granular_automata::pipe::fast::{Fast, FastPipe};
+use granular_automata::pipe::{Boundary, Flux, GravityWording, Params, Pipe, RestPlacement, Rules};
+use granular_automata::ErrorKind;
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use std::cell::Cell;
+use std::rc::Rc;
+
+/// Every random choice of this file derives from this seed.
+const SEED: u64 = 20_261_213;
+
+/// The reference's draws when only certain outcomes are expected: counts
+/// every draw that had a real choice (and then takes the first branch).
+#[derive(Clone, Default)]
+struct Certain {
+    choices: Rc<Cell<u64>>,
+}
+
+impl Certain {
+    fn choice(&self) {
+        self.choices.set(self.choices.get() + 1);
+    }
+}
+
+impl Draws for Certain {
+    fn chance(&mut self, t: u64) -> bool {
+        if t == 0 {
+            false
+        } else if t >= 1 << 32 {
+            true
+        } else {
+            self.choice();
+            false
+        }
+    }
+    fn pick(&mut self, _cumulative: &[u64]) -> usize {
+        self.choice();
+        0
+    }
+    fn coin(&mut self) -> bool {
+        self.choice();
+        false
+    }
+    fn below(&mut self, n: u32) -> u32 {
+        if n > 1 {
+            self.choice();
+        }
+        0
+    }
+}
+
+fn params(width: usize, length: usize, open: bool, p: f64, g: f64, b: f64) -> Params {
+    Params {
+        width,
+        length,
+        bin: 1,
+        rho: 1.0,
+        p,
+        g,
+        b,
+        boundary: if open {
+            Boundary::Open { inject: 0.0 }
+        } else {
+            Boundary::Periodic
+        },
+    }
+}
+
+fn flux_change(now: Flux, before: Flux) -> [u64; 3] {
+    [
+        now.injected - before.injected,
+        now.out_bottom - before.out_bottom,
+        now.out_top - before.out_top,
+    ]
+}
+
+/// The two engines stepped side by side from the same prepared state.
+struct Lockstep {
+    reference: Pipe<Certain>,
+    fast: FastPipe,
+    choices: Rc<Cell<u64>>,
+    /// Steps compared site by site, steps with a random choice (resynced).
+    compared: u64,
+    random: u64,
+}
+
+impl Lockstep {
+    fn new(params: Params, rules: Rules, init: &[(usize, usize, u8)]) -> Self {
+        let certain = Certain::default();
+        let choices = certain.choices.clone();
+        let mut reference = Pipe::new(params, rules, SEED).unwrap().with_draws(certain);
+        reference.clear();
+        let mut fast = FastPipe::new(params, rules, SEED).unwrap();
+        fast.clear();
+        for &(x, y, s) in init {
+            reference.set_site(x, y, s);
+            fast.set_site(x, y, s);
+        }
+        Lockstep {
+            reference,
+            fast,
+            choices,
+            compared: 0,
+            random: 0,
+        }
+    }
+
+    /// One step of both. A step without random choice must give the same
+    /// sites and flux; after one with a choice the fast engine takes the
+    /// reference's state (unless `certain`, where a choice is a failure).
+    fn step(&mut self, certain: bool, what: &str) -> bool {
+        let w = self.fast.params().width;
+        let (rf, ff) = (self.reference.flux(), self.fast.flux());
+        self.choices.set(0);
+        let r = self.reference.step();
+        let f = self.fast.step();
+        let kind = |e: &Result<(), granular_automata::Error>| e.as_ref().err().map(|e| e.kind);
+        let too_many = Some(ErrorKind::RestExceedsSites);
+        if self.choices.get() > 0 {
+            assert!(!certain, "{what}: the reference made a random choice");
+            // the count of rest particles is certain; a walk of the reference
+            // that always takes the first neighbour may get stuck
+            assert_eq!(kind(&r) == too_many, kind(&f) == too_many, "{what}");
+            if r.is_err() || f.is_err() {
+                return false;
+            }
+            self.random += 1;
+            for x in 0..w {
+                for (y, &s) in self.reference.column(x).iter().enumerate() {
+                    self.fast.set_site(x, y, s);
+                }
+            }
+            return true;
+        }
+        assert_eq!(r, f, "{what}: the same errors");
+        if r.is_err() {
+            return false; // the state is left as the error found it
+        }
+        self.compared += 1;
+        let t = self.reference.time();
+        for x in 0..w {
+            for (y, &s) in self.reference.column(x).iter().enumerate() {
+                assert_eq!(
+                    self.fast.site(x, y),
+                    s,
+                    "{what}: site ({x}, {y}) after step {t}"
+                );
+            }
+        }
+        assert_eq!(self.fast.time(), t);
+        assert_eq!(
+            flux_change(self.fast.flux(), ff),
+            flux_change(self.reference.flux(), rf),
+            "{what}: flux of step {t}"
+        );
+        true
+    }
+}
+
+/// The readings with certain outcomes at the given g and b of
+/// `lone_particles_move_as_in_the_reference`.
+fn certain_configs() -> Vec<(&'static str, f64, f64)> {
+    vec![
+        ("ph94", 0.0, 0.0),
+        ("ph94", 0.0, 1.0),
+        ("ph94", 1.0, 1.0),
+        ("any-mover", 1.0, 0.0),
+        ("up-to-rest", 1.0, 1.0),
+        ("ph94+wall-move", 0.0, 0.0),
+        ("default", 1.0, 1.0),
+        ("ph94+wall-drag", 0.0, 1.0),
+        (
+            "any-mover+wall-drag+gravity-first+wall-move+rest-slide",
+            1.0,
+            1.0,
+        ),
+    ]
+}
+
+/// One particle of every channel, started in the wall columns and next to
+/// them, in the first and last row, 50 steps: crossing the periodic seam
+/// both ways, leaving both open ends, hitting both walls at b = 0 and 1,
+/// every gravity wording at g = 1, wall-move and wall-drag at b = 1;
+/// W = 1, 2, 3, 5, 11 and L around a word of 64 rows.
+#[test]
+fn lone_particles_move_as_in_the_reference() {
+    let mut compared = 0;
+    for (w, l) in [(1usize, 7usize), (2, 64), (3, 13), (5, 128), (11, 65)] {
+        let mut xs = vec![0, 1, w.saturating_sub(2), w - 1];
+        xs.retain(|&x| x < w);
+        xs.sort_unstable();
+        xs.dedup();
+        for open in [false, true] {
+            for (rules, g, b) in certain_configs() {
+                for c in 0..7 {
+                    for &x in &xs {
+                        for y in [0, l - 1] {
+                            let what = format!(
+                                "W {w} L {l} open {open} {rules} g {g} b {b}: channel {c} at ({x}, {y})"
+                            );
+                            let p = params(w, l, open, 0.5, g, b);
+                            let mut s = Lockstep::new(p, rules.parse().unwrap(), &[(x, y, 1 << c)]);
+                            for _ in 0..50 {
+                                assert!(s.step(true, &what));
+                            }
+                            compared += s.compared;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(compared > 50_000, "{compared}");
+}
+
+/// Random prepared states (about rho = 1 and some rest particles) at p, g,
+/// b in {0, 1} and I in {0, 1}: every step without a random choice of the
+/// reference (R1, R3, relocation walks and rest-slide coins are random)
+/// compared site by site, with its flux.
+#[test]
+fn dense_states_agree_wherever_the_step_is_certain() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(SEED);
+    let (mut compared, mut random) = (0, 0);
+    let readings = [
+        "ph94",
+        "any-mover",
+        "up-to-rest+rest-up",
+        "default",
+        "ph94+wall-drag+rest-up",
+        "up-to-rest+gravity-first+wall-move+wall-drag+rest-up",
+    ];
+    for (w, l) in [(1, 7), (2, 9), (3, 65), (11, 13)] {
+        for open in [false, true] {
+            for rules in readings {
+                for (p, g, b) in [
+                    (0.0, 0.0, 0.0),
+                    (1.0, 1.0, 1.0),
+                    (1.0, 0.0, 1.0),
+                    (0.0, 1.0, 0.0),
+                ] {
+                    let mut pp = params(w, l, open, p, g, b);
+                    if open {
+                        pp.boundary = Boundary::Open {
+                            inject: (rng.next_u32() & 1) as f64,
+                        };
+                    }
+                    let mut init = Vec::new();
+                    for x in 0..w {
+                        for y in 0..l {
+                            // movers with probability 1/6 each, rest 1/8
+                            let mut s = 0u8;
+                            for c in 1..=6 {
+                                if rng.next_u32() % 6 == 0 {
+                                    s |= 1 << c;
+                                }
+                            }
+                            if rng.next_u32() % 8 == 0 {
+                                s |= 1;
+                            }
+                            init.push((x, y, s));
+                        }
+                    }
+                    let what = format!("W {w} L {l} open {open} {rules} p {p} g {g} b {b}");
+                    let mut s = Lockstep::new(pp, rules.parse().unwrap(), &init);
+                    for _ in 0..50 {
+                        if !s.step(false, &what) {
+                            break;
+                        }
+                    }
+                    compared += s.compared;
+                    random += s.random;
+                }
+            }
+        }
+    }
+    assert!(
+        compared > 2000 && random > 500,
+        "{compared} certain, {random} random"
+    );
+}
+
+/// A full row of rest particles with R5 collisions and `rest-up`: the
+/// relocation (MODEL.md A4) places the extras in row-major order.
+#[test]
+fn rest_up_relocation_matches_site_by_site() {
+    for open in [false, true] {
+        let p = params(4, 9, open, 1.0, 0.0, 0.0);
+        let mut init = vec![];
+        for x in 0..4 {
+            init.push((x, 3, 0b0000_1011)); // R5 {0, 1, 3}
+            init.push((x, 4, 1));
+            init.push((x, 6, 0b0001_0011)); // R4 {0, 1, 4}
+        }
+        let mut s = Lockstep::new(p, "ph94+rest-up".parse().unwrap(), &init);
+        assert!(s.step(true, "rest-up"));
+    }
+}
+
+#[test]
+fn the_periodic_pipe_conserves_particles_and_the_open_pipe_balances_its_books() {
+    let readings = [
+        "ph94",
+        "default",
+        "up-to-rest+wall-drag+rest-slide+rest-up",
+        "any-mover+gravity-first",
+    ];
+    for (i, rules) in readings.iter().enumerate() {
+        for (w, l) in [(1, 10), (2, 30), (11, 70)] {
+            for (p, g, b) in [
+                (0.5, 0.5, 0.5),
+                (0.1, 0.9, 0.2),
+                (1.0, 1.0, 1.0),
+                (0.0, 0.0, 0.0),
+            ] {
+                let mut pp = params(w, l, false, p, g, b);
+                pp.rho = 1.5;
+                let mut e = FastPipe::new(pp, rules.parse().unwrap(), SEED + i as u64).unwrap();
+                let n0 = e.particle_count();
+                for _ in 0..100 {
+                    if e.step().is_err() {
+                        break; // RestExceedsSites at p = 1: tested below
+                    }
+                    assert_eq!(e.particle_count(), n0, "{rules} W {w} L {l} p {p}");
+                }
+                pp.boundary = Boundary::Open { inject: 0.7 };
+                let mut e = FastPipe::new(pp, rules.parse().unwrap(), SEED + i as u64).unwrap();
+                for _ in 0..200 {
+                    if e.step().is_err() {
+                        break;
+                    }
+                    // the open pipe starts empty: injected - out = N
+                    let f = e.flux();
+                    let n = e.particle_count();
+                    assert_eq!(
+                        f.injected,
+                        n + f.out_bottom + f.out_top,
+                        "{rules} W {w} L {l} p {p}"
+                    );
+                    assert_eq!(e.channel_counts().iter().sum::<u64>(), n);
+                    assert_eq!(e.moving_count() + e.rest_count(), n);
+                }
+                assert!(e.flux().injected > 0);
+            }
+        }
+    }
+}
+
+#[test]
+fn observables_of_one_state_agree() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(SEED + 1);
+    for (w, l, bin) in [(11, 220, 10), (3, 130, 13), (2, 64, 64), (1, 5, 1)] {
+        let p = Params {
+            width: w,
+            length: l,
+            bin,
+            ..Params::default()
+        };
+        let mut r = Pipe::new(p, Rules::default(), 1).unwrap();
+        let mut f = FastPipe::new(p, Rules::default(), 1).unwrap();
+        for x in 0..w {
+            for y in 0..l {
+                let s = (rng.next_u32() & 0x7f) as u8;
+                r.set_site(x, y, s);
+                f.set_site(x, y, s | 0x80); // the high bit is ignored
+            }
+        }
+        let (mut a, mut b) = (vec![0.0; p.bins()], vec![0.0; p.bins()]);
+        r.fill_bin_counts(&mut a);
+        f.fill_bin_counts(&mut b);
+        assert_eq!(a, b);
+        for i in 0..p.bins() {
+            assert_eq!(PipeEngine::bin_count(&f, i), r.bin_count(i));
+        }
+        assert_eq!(f.channel_counts(), r.channel_counts());
+        assert_eq!(f.particle_count(), r.particle_count());
+        assert_eq!(f.moving_count(), r.moving_count());
+        assert_eq!(f.rest_count(), r.rest_count());
+    }
+}
+
+#[test]
+fn bad_input_gives_the_reference_errors() {
+    let good = Params::default();
+    let bad = [
+        Params { length: 25, ..good },
+        Params { rho: 6.0, ..good },
+        Params { width: 0, ..good },
+        Params { p: 1.5, ..good },
+        Params {
+            g: f64::NAN,
+            ..good
+        },
+        Params {
+            boundary: Boundary::Open { inject: -0.1 },
+            ..good
+        },
+    ];
+    for p in bad {
+        let r = Pipe::new(p, Rules::default(), 1).unwrap_err();
+        let f = Fast.build(p, Rules::default(), 1).err().expect("rejected");
+        assert_eq!((f.kind, f.message), (r.kind, r.message));
+    }
+    let mut f = FastPipe::new(good, Rules::default(), 1).unwrap();
+    assert_eq!(f.set_p(1.01).unwrap_err().kind, ErrorKind::InvalidParameter);
+    f.set_p(0.25).unwrap();
+    assert_eq!(f.params().p, 0.25);
+    assert_eq!(Fast.name(), "fast");
+    assert!(Fast.hopper().is_none());
+}
+
+#[test]
+#[should_panic(expected = "outside the pipe")]
+fn a_site_outside_the_pipe_panics() {
+    FastPipe::new(Params::default(), Rules::default(), 1)
+        .unwrap()
+        .site(11, 0);
+}
+
+/// More rest particles than sites (MODEL.md A4): the same typed error.
+#[test]
+fn too_many_rest_particles_stop_the_run() {
+    let p = params(1, 2, false, 0.5, 0.0, 0.0);
+    let mut f = FastPipe::new(p, Rules::MODEL_MD, 1).unwrap();
+    f.set_site(0, 0, 0b0001_0011); // R4: three rest particles
+    let e = f.step().unwrap_err();
+    assert_eq!(e.kind, ErrorKind::RestExceedsSites, "{e}");
+    assert!(e.message.contains("3 rest particles for 2 sites"), "{e}");
+}
+
+/// The walk's bound (MODEL.md A4), as `relocation_walk_gets_stuck` of the
+/// reference: one free site 20000 rows away in a column of rest particles.
+#[test]
+fn the_relocation_walk_is_bounded() {
+    let l = 40_000;
+    let p = Params {
+        bin: 1,
+        ..params(1, l, true, 0.5, 0.0, 0.5)
+    };
+    let mut f = FastPipe::new(p, Rules::MODEL_MD, SEED).unwrap();
+    for y in 0..l {
+        f.set_site(0, y, 1);
+    }
+    f.set_site(0, l / 2, 0);
+    f.set_site(0, 0, 1 | (1 << 1) | (1 << 3)); // R5
+    let e = f.step().unwrap_err();
+    assert_eq!(e.kind, ErrorKind::RelocationStuck, "{e}");
+}
+
+/// Runs are pure functions of (parameters, rules, seed).
+#[test]
+fn runs_repeat_and_seeds_differ() {
+    let p = Params {
+        length: 100,
+        ..Params::default()
+    };
+    let run = |seed| {
+        let mut f = FastPipe::new(p, Rules::default(), seed).unwrap();
+        f.run(300).unwrap();
+        (0..11)
+            .flat_map(|x| (0..100).map(move |y| (x, y)))
+            .map(|(x, y)| f.site(x, y))
+            .collect::<Vec<u8>>()
+    };
+    assert_eq!(run(5), run(5));
+    assert_ne!(run(5), run(6));
+}
+
+/// Every reading runs (none is refused) and conserves particles.
+#[test]
+fn every_reading_is_supported() {
+    for gravity in [
+        GravityWording::Ph94,
+        GravityWording::AnyMover,
+        GravityWording::UpToRest,
+    ] {
+        for flags in 0..32u32 {
+            let rules = Rules {
+                gravity,
+                wall_drag: flags & 1 != 0,
+                gravity_first: flags & 2 != 0,
+                rest: if flags & 4 != 0 {
+                    RestPlacement::RestUp
+                } else {
+                    RestPlacement::RandomWalk
+                },
+                wall_move: flags & 8 != 0,
+                rest_slide: flags & 16 != 0,
+            };
+            let p = Params {
+                length: 40,
+                width: 5,
+                ..Params::default()
+            };
+            let mut e = Fast.build(p, rules, SEED).unwrap();
+            let n = e.particle_count();
+            e.run(50).unwrap();
+            assert_eq!(e.particle_count(), n, "{rules}");
+        }
+    }
+}
+
+/// Site updates per second of both engines at W = 11, rho = 1, p = g = b =
+/// 0.5, default rules, one thread (issue 13: at least 4 times the
+/// reference). `cargo test --release --test fast_engine -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn speed_against_the_reference() {
+    use std::time::Instant;
+    for (length, steps) in [(220usize, 20_000u64), (2200, 2_000)] {
+        let p = Params {
+            length,
+            ..Params::default()
+        };
+        let sites = p.sites() as f64 * steps as f64;
+        let rate = |e: &mut dyn PipeEngine| {
+            e.run(2000).unwrap();
+            let t = Instant::now();
+            e.run(steps).unwrap();
+            sites / t.elapsed().as_secs_f64()
+        };
+        let r = rate(&mut Pipe::new(p, Rules::default(), 1).unwrap());
+        let f = rate(&mut FastPipe::new(p, Rules::default(), 1).unwrap());
+        println!(
+            "L = {length}: reference {:.3e}, fast {:.3e} site updates/s, ratio {:.2}",
+            r,
+            f,
+            f / r
+        );
+    }
+}
