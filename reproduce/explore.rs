@@ -8,7 +8,7 @@
 use clap::Parser;
 use granular_automata::cli::{parse_runs, PipeRules};
 use granular_automata::pipe::record::{bands, record};
-use granular_automata::pipe::{Params, Pipe};
+use granular_automata::pipe::Params;
 use granular_automata::run::{derive_seed, ensemble};
 
 #[derive(Parser)]
@@ -48,6 +48,7 @@ struct Args {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
     let rules = a.rules.parse()?;
+    let engine = a.rules.engine()?;
     let params = Params {
         length: a.length,
         width: a.width,
@@ -60,11 +61,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     params.validate()?;
     let lines = ensemble(a.runs, |i| -> granular_automata::Result<String> {
         let seed = derive_seed(a.seed, i as u64);
-        let mut pipe = Pipe::new(params, rules, seed)?;
-        let rec = record(&mut pipe, a.steps, 80, |_| {})?;
+        let mut pipe = engine.build(params, rules, seed)?;
+        let rec = record(pipe.as_mut(), a.steps, 80, |_| {})?;
         let s = bands(&rec, rec.n.len() / 2, a.rho, params.bin, params.width);
         Ok(format!(
-            "{rules} p={} b={} g={} rho={} L={} seed={seed}: C={:.3} s_low={:.2} var_ratio={:.3} channels(0..6)={:?}",
+            "{rules} ({engine}) p={} b={} g={} rho={} L={} seed={seed}: C={:.3} s_low={:.2} var_ratio={:.3} channels(0..6)={:?}",
             a.p, a.b, a.g, a.rho, a.length, s.contrast, s.s_low, s.var_ratio, pipe.channel_counts()
         ))
     });

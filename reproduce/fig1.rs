@@ -46,7 +46,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let c = &args.common;
     let rules = args.rules.parse()?;
-    let fig = Figure::start("fig1", "PH94 Fig. 1", c.tier, rules.to_string());
+    let engine = args.rules.engine()?;
+    let mut fig = Figure::start("fig1", "PH94 Fig. 1", c.tier, rules.to_string());
+    fig.engine = engine.to_string();
     // Bands need the full length and duration (shorter pipes or runs do not form
     // them reliably, EXPERIMENTS.md), so the tiers differ in the number of runs.
     let steps = 40000;
@@ -54,10 +56,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let every = 80;
     let base = fig1_pipe();
     base.validate()?;
-    let key = json!({"analysis": 1, "params": base, "rules": rules.to_string(), "steps": steps, "every": every});
+    let key = json!({"analysis": 1, "params": base, "rules": rules.to_string(), "engine": engine, "steps": steps, "every": every});
     let ens = c.ensemble(fig.binary, &key, runs)?;
     let outcome = ens.run(4 * steps, |index, seed, tick| {
-        let panels = fig1_panels(base, rules, seed, steps, every, tick)?;
+        let panels = fig1_panels(base, rules, engine, seed, steps, every, tick)?;
         let (records, bands): (Vec<Record>, _) = panels.into_iter().unzip();
         let records = (index == 0).then_some(records);
         Ok(RunResult { records, bands })

@@ -25,6 +25,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         v_peak: Some((0.40, V_MARGIN)),
         note: "",
     };
-    run_figure(&fig, &args.common, args.rules.parse()?)?;
+    run_figure(
+        &fig,
+        &args.common,
+        args.rules.parse()?,
+        args.rules.engine()?,
+    )?;
     Ok(())
 }

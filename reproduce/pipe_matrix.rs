@@ -11,6 +11,7 @@ use granular_automata::cli::Common;
 use granular_automata::pipe::claims::{
     grade, grade_steps, Graded, MatrixSize, Verdict, CLAIMS, GRADING_VERSION,
 };
+use granular_automata::pipe::engine::Engine;
 use granular_automata::pipe::Rules;
 use granular_automata::plot::{plot_err, register_fonts, FONT};
 use granular_automata::run::{progress, write_atomic, Check, Output, Summary};
@@ -35,6 +36,9 @@ struct Args {
     /// Readings to grade, comma-separated (each a --rules value).
     #[arg(long, default_value = READINGS)]
     readings: String,
+    /// Engine: reference or fast (validated against the reference, issue 13).
+    #[arg(long, default_value = "reference")]
+    engine: String,
 }
 
 /// The measured value of a cell: `m +- e`, or `n/5 agree` for the density window.
@@ -71,11 +75,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = Output::new(&args.common.out, "pipe-matrix")?;
     let cache = out.path("variants");
     std::fs::create_dir_all(&cache)?;
+    let engine: Engine = args.engine.parse()?;
     let key = format!(
-        "{}-seed{}-runs{}-grading{GRADING_VERSION}",
+        "{}-seed{}-runs{}-grading{GRADING_VERSION}{}",
         tier.name(),
         args.common.seed,
-        size.runs
+        size.runs,
+        match engine {
+            Engine::Reference => String::new(),
+            other => format!("-{other}"),
+        }
     );
 
     let start = Instant::now();
@@ -93,7 +102,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             Err(_) => {
                 pb.set_message(rules.to_string());
-                let g = grade(rules, size, args.common.seed, &|n| pb.inc(n))?;
+                let g = grade(rules, engine, size, args.common.seed, &|n| pb.inc(n))?;
                 write_atomic(&file, serde_json::to_string_pretty(&g)?.as_bytes())?;
                 g
             }
@@ -276,6 +285,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         seeds: vec![args.common.seed],
         params: json!({"size": size, "readings": readings.iter().map(|r| r.to_string()).collect::<Vec<_>>()}),
         rules: args.readings.clone(),
+        engine: engine.to_string(),
         wall_seconds: wall,
         // band runs at 2200 x 11 sites, spectra at 220 x 11 (grade_steps counts both)
         site_updates: site_updates(size) * readings.len() as f64,

@@ -69,6 +69,7 @@ struct CorrRun {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let rules = args.pipe.rules.parse()?;
+    let engine = args.pipe.rules.engine()?;
     let c = &args.pipe.common;
     let steps = args.steps;
     let min_steps = (SKIP + T_MAX + 2) as u64 * EVERY;
@@ -97,10 +98,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
     let mut results = Vec::new();
     for &inject in rates {
-        let key = json!({"open-correlation": at(inject), "steps": steps, "every": EVERY, "skip": SKIP, "t_max": T_MAX, "r": R, "rules": rules.to_string()});
+        let key = json!({"open-correlation": at(inject), "steps": steps, "every": EVERY, "skip": SKIP, "t_max": T_MAX, "r": R, "rules": rules.to_string(), "engine": engine});
         let ens = c.ensemble("waves-fig11", &key, runs)?;
         let out = ens.run(steps, |_, seed, tick| {
-            let rec = open_run(at(inject), rules, seed, steps, EVERY, true, tick)?;
+            let rec = open_run(at(inject), rules, engine, seed, steps, EVERY, true, tick)?;
             let ok = rec.stopped.is_none();
             let win = if ok { &rec.n[SKIP..] } else { &rec.n[..0] };
             Ok(CorrRun {
@@ -138,6 +139,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let rec: OpenRecord = open_run(
             at(inject),
             rules,
+            engine,
             derive_seed(c.seed, 0),
             steps,
             80,
@@ -295,6 +297,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         seeds: (0..runs as u64).map(|i| derive_seed(c.seed, i)).collect(),
         params: json!({"paper": at(I_PAPER), "correlation": at(I_CORR), "steps": steps, "every": EVERY, "skip_samples": SKIP, "t_max_samples": T_MAX, "R_bins": R}),
         rules: rules.to_string(),
+        engine: engine.to_string(),
         wall_seconds: wall,
         site_updates: (rates.len() as u64 * runs as u64 * steps * base.sites() as u64) as f64,
         metrics,

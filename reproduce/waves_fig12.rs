@@ -12,6 +12,7 @@ use clap::Parser;
 use granular_automata::analysis::grading::{Claim, Estimate, Kind};
 use granular_automata::cli::{Common, PipeArgs};
 use granular_automata::ensemble::Outcome;
+use granular_automata::pipe::engine::Engine;
 use granular_automata::pipe::open::{
     bisect_ic, open_run, stationarity, trend_threshold, PipeSize, Stationarity, TREND_FALSE_ALARM,
 };
@@ -75,16 +76,15 @@ struct TrendRun {
 /// The trend runs of one (pipe, I): all runs, or an error.
 fn trend(
     c: &Common,
-    rules: Rules,
+    (rules, engine): (Rules, Engine),
     params: Params,
     steps: u64,
     runs: usize,
 ) -> granular_automata::Result<Vec<TrendRun>> {
-    let key =
-        json!({"open-trend": params, "steps": steps, "every": EVERY, "rules": rules.to_string()});
+    let key = json!({"open-trend": params, "steps": steps, "every": EVERY, "rules": rules.to_string(), "engine": engine});
     let ens = c.ensemble("waves-fig12", &key, runs)?.quiet();
     match ens.run(steps, |_, seed, tick| {
-        let r = open_run(params, rules, seed, steps, EVERY, false, tick)?;
+        let r = open_run(params, rules, engine, seed, steps, EVERY, false, tick)?;
         Ok(TrendRun {
             total: r.total,
             clogged_at: r.stopped.map(|s| s.0),
@@ -121,6 +121,7 @@ fn mean_total(v: &[TrendRun]) -> Vec<(f64, f64)> {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let rules = args.pipe.rules.parse()?;
+    let engine = args.pipe.rules.engine()?;
     let c = &args.pipe.common;
     c.reject_shard("waves-fig12")?; // the bisection is sequential
     let base = Params {
@@ -196,7 +197,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for &(l, w) in &geoms {
         eprintln!("waves-fig12: bisection for I_c at L = {l}, W = {w}");
         let (i_c, err, log) = bisect_ic(0.0, 1.0, bisect_steps, |i| {
-            let v = trend(c, rules, open(l, w, i), steps, runs)?;
+            let v = trend(c, (rules, engine), open(l, w, i), steps, runs)?;
             book += v.iter().map(|r| r.bookkeeping_errors).sum::<u64>();
             Ok(verdict(&v))
         })?;
@@ -223,7 +224,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut nt = Vec::new();
     for f in fracs {
         let i = round((f * i_c).min(1.0));
-        let v = trend(c, rules, open(l0, w0, i), steps, runs)?;
+        let v = trend(c, (rules, engine), open(l0, w0, i), steps, runs)?;
         book += v.iter().map(|r| r.bookkeeping_errors).sum::<u64>();
         nt.push((i, verdict(&v), v));
     }
@@ -249,7 +250,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         })
         .collect();
     let sruns = c.runs_or(2, 8, 32);
-    let setup_of = |p| tier_setup(c.tier, p, rules);
+    let setup_of = |p| tier_setup(c.tier, p, rules, engine);
     let res = run_sweep(c, "waves-fig12", &points, sruns, setup_of)?.expect("no shard");
     let wall = start.elapsed().as_secs_f64();
 
@@ -347,6 +348,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "trend_false_alarm": TREND_FALSE_ALARM, "trend_threshold": thr,
             "bisection_steps": bisect_steps, "spectrum_runs": sruns, "I_over_I_c": ifr, "setup": setup_of(open(l0, w0, i_c))}),
         rules: rules.to_string(),
+        engine: engine.to_string(),
         wall_seconds: wall,
         site_updates: bisect_rows.iter().map(|r| r[0] * r[1]).sum::<f64>() * (runs as u64 * steps) as f64
             + site_updates(&points, sruns, setup_of),

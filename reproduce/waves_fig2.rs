@@ -17,7 +17,6 @@ use granular_automata::cli::WaveOptions;
 use granular_automata::pipe::claims::WAVE_THRESHOLD;
 use granular_automata::pipe::overlap::real_space_speed;
 use granular_automata::pipe::record::{bands, record, Record};
-use granular_automata::pipe::Pipe;
 use granular_automata::plot::{space_time_upward, stacked_profiles, value_range};
 use granular_automata::run::{mean_sem_by, stat_metrics, Check};
 use serde::{Deserialize, Serialize};
@@ -52,13 +51,14 @@ struct RunResult {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, c) = args.wave.start("waves-fig2", "PH95 Fig. 2")?;
+    let engine = args.wave.rules.engine()?;
     let runs = c.runs_or(3, 8, 32);
     let params = args.wave.pipe(2200, 10)?;
-    let key = json!({"analysis": 1, "params": params, "rules": rules.to_string(), "steps": STEPS, "every": EVERY});
+    let key = json!({"analysis": 1, "params": params, "rules": rules.to_string(), "engine": engine, "steps": STEPS, "every": EVERY});
     let ens = c.ensemble(fig.binary, &key, runs)?;
     let outcome = ens.run(STEPS, |index, seed, tick| {
-        let mut pipe = Pipe::new(params, rules, seed)?;
-        let rec = record(&mut pipe, STEPS, EVERY, |_| tick(EVERY))?;
+        let mut pipe = engine.build(params, rules, seed)?;
+        let rec = record(pipe.as_mut(), STEPS, EVERY, |_| tick(EVERY))?;
         let half = rec.n.len() / 2;
         let b = bands(&rec, half, params.rho, params.bin, params.width);
         let (_, speed) = real_space_speed(&rec.n[half..], MAX_LAG, EVERY, params.bin)?;

@@ -39,6 +39,7 @@ const EARLY: u64 = 400;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, c) = args.wave.start("waves-fig3", "PH95 Fig. 3")?;
+    let engine = args.wave.rules.engine()?;
     let runs = c.runs_or(64, 64, 64);
     let steps = args.steps.unwrap_or(c.tier.pick(20_000, 50_000, 100_000));
     let every = c.tier.pick(20, 50, 100);
@@ -54,11 +55,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )
         .into());
     }
-    let key = json!({"analysis": 2, "params": params, "rules": rules.to_string(), "steps": steps, "every": every});
+    let key = json!({"analysis": 2, "params": params, "rules": rules.to_string(), "engine": engine, "steps": steps, "every": every});
     let ens = c.ensemble(fig.binary, &key, runs)?;
     let times = sample_times(steps, every, EARLY);
     let outcome = ens.run(steps, |_, seed, tick| {
-        relaxation(params, rules, seed, &times, tick)
+        relaxation(params, rules, engine, seed, &times, tick)
     })?;
     let Some(results) = outcome.complete("") else {
         return Ok(());

@@ -52,6 +52,7 @@ const BIN: usize = 4;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, c) = args.wave.start("waves-fig4", "PH95 Fig. 4")?;
+    let engine = args.wave.rules.engine()?;
     let runs = c.runs_or(4, 16, 64);
     granular_automata::cli::reject_duplicates("--lengths", &args.lengths)?;
     for &length in &args.lengths {
@@ -65,11 +66,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let params = args.wave.pipe(length, BIN)?;
         // "analysis": bump when the per-run computation changes, so stale run
         // files are not reused (ensemble resume)
-        let key = json!({"analysis": 2, "params": params, "rules": rules.to_string(), "fields": fields, "warmup": warmup, "T0": T0});
+        let key = json!({"analysis": 2, "params": params, "rules": rules.to_string(), "engine": engine, "fields": fields, "warmup": warmup, "T0": T0});
         let ens = c.ensemble(fig.binary, &key, runs)?;
         let mean = (BIN * params.width) as f64 * params.rho;
         let outcome = ens.run(steady.steps(), |_, seed, tick| {
-            let f = steady.record(params, rules, seed, tick)?;
+            let f = steady.record(params, rules, engine, seed, tick)?;
             Ok(profile_run(&f, mean, BIN, seed))
         })?;
         seeds = ens.seeds();

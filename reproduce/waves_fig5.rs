@@ -53,6 +53,7 @@ const SPEED_MARGIN: f64 = 0.05;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, c) = args.wave.start("waves-fig5", "PH95 Fig. 5")?;
+    let engine = args.wave.rules.engine()?;
     let runs = c.runs_or(8, 16, 64);
     let params = args.wave.pipe(args.length, BIN)?;
     let steady = Steady::ph95(c.tier, c.tier.pick(1024, 2048, 2048), T0);
@@ -65,10 +66,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     spec.validate()?;
     // "analysis": bump when the per-run computation changes, so stale run
     // files are not reused (ensemble resume)
-    let key = json!({"analysis": 2, "params": params, "rules": rules.to_string(), "fields": fields, "warmup": warmup, "T0": T0, "max_lag": MAX_LAG});
+    let key = json!({"analysis": 2, "params": params, "rules": rules.to_string(), "engine": engine, "fields": fields, "warmup": warmup, "T0": T0, "max_lag": MAX_LAG});
     let ens = c.ensemble(fig.binary, &key, runs)?;
     let outcome = ens.run(steady.steps(), |_, seed, tick| {
-        let n = steady.record(params, rules, seed, tick)?;
+        let n = steady.record(params, rules, engine, seed, tick)?;
         SpeedRun::measure(&n, &params, T0, MAX_LAG, &spec)
     })?;
     let Some(results) = outcome.complete("") else {

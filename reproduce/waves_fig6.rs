@@ -22,6 +22,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         v_peak: None,
         note: "; published 'about 1.33'",
     };
-    run_figure(&fig, &args.common, args.rules.parse()?)?;
+    run_figure(
+        &fig,
+        &args.common,
+        args.rules.parse()?,
+        args.rules.engine()?,
+    )?;
     Ok(())
 }

@@ -23,6 +23,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "PH95 Fig. 7: white-noise spectra at p = 0 and at b = 0 (peak at v = 1/2)",
     );
     let rules = args.rules.parse()?;
+    let engine = args.rules.engine()?;
     // L = 220, W = 11, rho = 1, g = 0.5
     let base = Params::default();
     let cases = [
@@ -50,10 +51,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = Output::new(&args.common.out, "waves-fig7")?;
 
     let start = Instant::now();
-    let setup0 = tier_setup(args.common.tier, base, rules);
+    let setup0 = tier_setup(args.common.tier, base, rules, engine);
     let mut ens = Vec::new();
     for (name, params) in cases {
-        let setup = tier_setup(args.common.tier, params, rules);
+        let setup = tier_setup(args.common.tier, params, rules, engine);
         let Some(e) = resumable_ensemble(&args.common, "waves-fig7", name, &setup, runs)? else {
             continue; // a shard: nothing to analyse
         };
@@ -122,6 +123,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         seeds,
         params: json!({"p0": cases[0].1, "b0": cases[1].1, "setup": setup0}),
         rules: rules.to_string(),
+        engine: engine.to_string(),
         wall_seconds: wall,
         site_updates: (2 * runs as u64 * setup0.steps() * base.sites() as u64) as f64,
         metrics,

@@ -108,6 +108,10 @@ pub struct PipeRules {
     /// any-mover+gravity-first+rest-up ('--rules help' lists them).
     #[arg(long, default_value = "default")]
     pub rules: String,
+    /// Engine: reference (plain, one byte per site) or fast (bit-sliced,
+    /// validated against the reference by `validate`; issue 13).
+    #[arg(long, default_value = "reference")]
+    pub engine: String,
 }
 
 /// The options of a pipe figure: [`Common`] and `--rules`.
@@ -143,6 +147,11 @@ impl PipeRules {
         self.rules.parse()
     }
 
+    /// Parse `--engine`.
+    pub fn engine(&self) -> crate::Result<crate::pipe::engine::Engine> {
+        self.engine.parse()
+    }
+
     /// Start figure `binary` reproducing `paper` with these rules and the
     /// options `common`: the figure (its clock running), the parsed rules,
     /// and `common`.
@@ -153,7 +162,8 @@ impl PipeRules {
         paper: &'static str,
     ) -> crate::Result<(Figure, Rules, &'c Common)> {
         let rules = self.parse()?;
-        let fig = Figure::start(binary, paper, common.tier, rules.to_string());
+        let mut fig = Figure::start(binary, paper, common.tier, rules.to_string());
+        fig.engine = self.engine()?.to_string();
         Ok((fig, rules, common))
     }
 }
@@ -288,6 +298,7 @@ mod tests {
             common: parse(&[]).unwrap().common,
             rules: PipeRules {
                 rules: "default".into(),
+                engine: "reference".into(),
             },
             p: 0.1,
         };

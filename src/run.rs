@@ -364,6 +364,9 @@ pub struct Summary {
     pub params: serde_json::Value,
     /// Rule variant(s) used, as printed by the model.
     pub rules: String,
+    /// The engine that ran the model (`reference` or, for the pipe, `fast`;
+    /// issue 13).
+    pub engine: String,
     /// Wall-clock time of this invocation of the figure (runs resumed from
     /// saved files cost nothing here; `site_updates` counts them).
     pub wall_seconds: f64,
@@ -393,6 +396,9 @@ pub struct Figure {
     pub tier: Tier,
     /// Rule variant(s), as printed by the model.
     pub rules: String,
+    /// The engine that runs the model (`reference` unless `--engine` says
+    /// otherwise).
+    pub engine: String,
     /// Why a metric may have no value ([`Figure::explain_missing`]).
     missing: BTreeMap<String, String>,
     start: Instant,
@@ -406,6 +412,7 @@ impl Figure {
             paper,
             tier,
             rules,
+            engine: "reference".into(),
             missing: BTreeMap::new(),
             start: Instant::now(),
         }
@@ -443,6 +450,7 @@ impl Figure {
             seeds,
             params,
             rules: self.rules.clone(),
+            engine: self.engine.clone(),
             wall_seconds: self.start.elapsed().as_secs_f64(),
             site_updates,
             metrics,

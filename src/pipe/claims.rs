@@ -5,6 +5,7 @@
 //! (see `equivalent`, [`GRADING_VERSION`]), before the new readings of
 //! that session were graded.
 
+use super::engine::Engine;
 use super::record::{fig1_panels, run_bands};
 use super::spectra::{spectrum_ensemble, tier_setup, SpectrumEnsemble};
 use super::{Params, Rules};
@@ -131,9 +132,15 @@ impl MatrixSize {
 
 /// Band statistic s_low over runs at `params`; a run that leaves the model's
 /// validity (rest particles outnumber sites) counts as NaN and is reported.
-fn band_stat(params: Params, rules: Rules, seeds: &[u64], steps: u64) -> Result<(Estimate, usize)> {
+fn band_stat(
+    params: Params,
+    rules: Rules,
+    engine: Engine,
+    seeds: &[u64],
+    steps: u64,
+) -> Result<(Estimate, usize)> {
     let res = ensemble(seeds.len(), |i| {
-        run_bands(params, rules, seeds[i], steps, 80)
+        run_bands(params, rules, engine, seeds[i], steps, 80)
     });
     let mut s = Vec::new();
     let mut invalid = 0;
@@ -158,6 +165,7 @@ fn band_stat(params: Params, rules: Rules, seeds: &[u64], steps: u64) -> Result<
 /// progress. Runs use seeds derived from `seed`.
 pub fn grade(
     rules: Rules,
+    engine: Engine,
     size: MatrixSize,
     seed: u64,
     tick: &(dyn Fn(u64) + Sync),
@@ -185,7 +193,7 @@ pub fn grade(
 
     // PH94 Fig. 1 panels
     let panels = ensemble(seeds.len(), |i| {
-        fig1_panels(base, rules, seeds[i], size.band_steps, 80, tick)
+        fig1_panels(base, rules, engine, seeds[i], size.band_steps, 80, tick)
     });
     let panels: Vec<_> = panels.into_iter().collect::<Result<_>>()?;
     let stat = |k: usize| Estimate::of(&panels.iter().map(|r| r[k].1.s_low).collect::<Vec<_>>());
@@ -212,7 +220,13 @@ pub fn grade(
     let mut contradict = 0;
     let mut detail = Vec::new();
     for &rho in inside.iter().chain(outside.iter()) {
-        let (est, invalid) = band_stat(Params { rho, ..base }, rules, &seeds, size.band_steps)?;
+        let (est, invalid) = band_stat(
+            Params { rho, ..base },
+            rules,
+            engine,
+            &seeds,
+            size.band_steps,
+        )?;
         let (m, e) = (est.mean, est.se);
         tick(seeds.len() as u64 * size.band_steps);
         let want = inside.contains(&rho);
@@ -255,7 +269,7 @@ pub fn grade(
 
     // spectra
     let spec = |params: Params| -> Result<SpectrumEnsemble> {
-        let setup = tier_setup(size.spectrum_tier, params, rules);
+        let setup = tier_setup(size.spectrum_tier, params, rules, engine);
         spectrum_ensemble(&setup, &seeds, tick)
     };
     // PH94 Fig. 2: L = 220, W = 11, rho = 1, p = g = b = 0.5
@@ -322,7 +336,12 @@ pub fn grade(
 /// Steps [`grade`] reports through `tick` for one reading.
 pub fn grade_steps(size: MatrixSize) -> u64 {
     let runs = size.runs as u64;
-    let setup = tier_setup(size.spectrum_tier, Params::default(), Rules::default());
+    let setup = tier_setup(
+        size.spectrum_tier,
+        Params::default(),
+        Rules::default(),
+        Engine::Reference,
+    );
     runs * (4 * size.band_steps + 5 * size.band_steps + 4 * setup.steps())
 }
 

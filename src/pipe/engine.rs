@@ -54,6 +54,12 @@ pub trait PipeEngine: Send {
     fn rest_count(&self) -> u64 {
         self.channel_counts()[0]
     }
+    /// Bin densities n_i (MODEL.md A9), K = L / bin values.
+    fn bin_counts(&self) -> Vec<f64> {
+        let mut out = vec![0.0; self.params().bins()];
+        self.fill_bin_counts(&mut out);
+        out
+    }
     /// Particle count of bin `i` alone (MODEL.md A9).
     fn bin_count(&self, i: usize) -> u32 {
         let mut out = vec![0.0; self.params().bins()];
@@ -133,5 +139,65 @@ impl EngineBuilder for Reference {
     }
     fn hopper(&self) -> Option<&dyn HopperBuilder> {
         Some(&crate::hopper::engine::Reference)
+    }
+}
+
+/// Which implementation runs a pipe figure (`--engine`, issue 13): the
+/// plain reference engine [`Pipe`] or the bit-sliced fast engine
+/// ([`super::fast::FastPipe`]), which `validate` checks against it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Engine {
+    /// [`Pipe`], one byte per site (the default).
+    #[default]
+    Reference,
+    /// [`super::fast::FastPipe`], 64 sites per word and channel.
+    Fast,
+}
+
+impl Engine {
+    /// The engine names `--engine` accepts.
+    pub const NAMES: [&'static str; 2] = ["reference", "fast"];
+
+    /// A new run of this engine (validated parameters; MODEL.md A8 start).
+    pub fn build(self, params: Params, rules: Rules, seed: u64) -> Result<Box<dyn PipeEngine>> {
+        match self {
+            Engine::Reference => Reference.build(params, rules, seed),
+            Engine::Fast => super::fast::Fast.build(params, rules, seed),
+        }
+    }
+
+    /// Its name, as `--engine` takes it and summary.json records it.
+    pub fn name(self) -> &'static str {
+        Engine::NAMES[self as usize]
+    }
+}
+
+impl std::fmt::Display for Engine {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Engine {
+    type Err = crate::error::Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "reference" => Ok(Engine::Reference),
+            "fast" => Ok(Engine::Fast),
+            other => Err(crate::error::Error::new(
+                crate::error::ErrorKind::InvalidParameter,
+                format!(
+                    "--engine {other} is not known; use one of: {}",
+                    Engine::NAMES.join(", ")
+                ),
+            )),
+        }
+    }
+}
+
+impl serde::Serialize for Engine {
+    /// Serialised as its name.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
     }
 }

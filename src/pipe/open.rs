@@ -3,7 +3,8 @@
 //! the exact mass bookkeeping, and the two-point correlation C(R, T) of
 //! MODEL.md A9 with its peak.
 
-use super::{Boundary, Params, Pipe, Rules};
+use super::engine::{Engine, PipeEngine};
+use super::{Boundary, Params, Rules};
 use crate::error::{Error, ErrorKind, Result};
 use serde::{Deserialize, Serialize};
 
@@ -73,9 +74,11 @@ pub fn inject_of(params: &Params) -> Result<f64> {
 /// Run an open pipe from empty for `steps` steps, sampling every `every`
 /// steps (bin counts only when `bins` is true) and checking the bookkeeping
 /// injected - out_bottom - out_top = N(t) - N(0) at every sample.
+#[allow(clippy::too_many_arguments)] // the run's model (params, rules, engine, seed) and its sampling
 pub fn open_run(
     params: Params,
     rules: Rules,
+    engine: Engine,
     seed: u64,
     steps: u64,
     every: u64,
@@ -86,7 +89,7 @@ pub fn open_run(
     if every == 0 {
         return Err(Error::out_of_range("sampling interval", 0, "[1, inf)"));
     }
-    let mut pipe = Pipe::new(params, rules, seed)?;
+    let mut pipe = engine.build(params, rules, seed)?;
     let n0 = pipe.particle_count();
     let mut rec = OpenRecord {
         every,
@@ -107,7 +110,7 @@ pub fn open_run(
             return Err(e);
         }
         tick(every);
-        if !books_balance(&pipe, n0) {
+        if !books_balance(pipe.as_ref(), n0) {
             rec.bookkeeping_errors += 1;
         }
         rec.total.push(pipe.particle_count() as f64);
@@ -124,7 +127,7 @@ pub fn open_run(
 
 /// The mass bookkeeping of MODEL.md A7: injected - out_bottom - out_top =
 /// N(t) - N(0), with N(0) = `n0`.
-pub fn books_balance(pipe: &Pipe, n0: u64) -> bool {
+pub fn books_balance(pipe: &dyn PipeEngine, n0: u64) -> bool {
     let f = pipe.flux();
     f.injected as i128 - f.out_bottom as i128 - f.out_top as i128
         == pipe.particle_count() as i128 - n0 as i128
@@ -229,7 +232,17 @@ mod tests {
             boundary: Boundary::Open { inject: 0.2 },
             ..Params::default()
         };
-        let rec = open_run(params, Rules::default(), 3, 2000, 10, true, &|_| {}).unwrap();
+        let rec = open_run(
+            params,
+            Rules::default(),
+            Engine::Reference,
+            3,
+            2000,
+            10,
+            true,
+            &|_| {},
+        )
+        .unwrap();
         assert_eq!(rec.bookkeeping_errors, 0);
         assert!(rec.stopped.is_none());
         assert!(rec.injected > 0 && rec.out_bottom > 0);
@@ -238,7 +251,7 @@ mod tests {
             *rec.total.last().unwrap() as u64
         );
         // the check fails when a particle is lost (here: removed by hand)
-        let mut pipe = Pipe::new(params, Rules::default(), 3).unwrap();
+        let mut pipe = crate::pipe::Pipe::new(params, Rules::default(), 3).unwrap();
         pipe.run(500).unwrap();
         assert!(books_balance(&pipe, 0));
         let (x, y) = (0..params.length)
@@ -253,11 +266,22 @@ mod tests {
             boundary: Boundary::Open { inject: 0.5 },
             ..params
         };
-        let rec = open_run(clog, Rules::default(), 3, 2000, 10, true, &|_| {}).unwrap();
+        let rec = open_run(
+            clog,
+            Rules::default(),
+            Engine::Reference,
+            3,
+            2000,
+            10,
+            true,
+            &|_| {},
+        )
+        .unwrap();
         assert!(rec.stopped.is_some() && rec.bookkeeping_errors == 0);
         assert!(open_run(
             Params::default(),
             Rules::default(),
+            Engine::Reference,
             3,
             10,
             10,

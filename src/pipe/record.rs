@@ -4,8 +4,9 @@
 //! steady-state fields of PH95 Figs. 4 and 5 ([`Steady`]) and the approach
 //! to the steady state of PH95 Fig. 3 ([`relaxation`]).
 
+use super::engine::{Engine, PipeEngine};
 use super::observables::{contrast, random_start_bin_variance, s_low};
-use super::{Params, Pipe, Rules};
+use super::{Params, Rules};
 use crate::error::Result;
 use crate::run::Tier;
 use serde::{Deserialize, Serialize};
@@ -66,7 +67,7 @@ impl Record {
 /// every `every` steps (so `steps / every + 1` samples). `tick(done)` is called
 /// after each sample for progress bars.
 pub fn record(
-    pipe: &mut Pipe,
+    pipe: &mut dyn PipeEngine,
     steps: u64,
     every: u64,
     mut tick: impl FnMut(u64),
@@ -140,6 +141,7 @@ pub fn fig1_pipe() -> Params {
 pub fn fig1_panels(
     base: Params,
     rules: Rules,
+    engine: Engine,
     seed: u64,
     steps: u64,
     every: u64,
@@ -156,17 +158,17 @@ pub fn fig1_panels(
         b: 0.0,
         ..base
     };
-    let mut a = Pipe::new(pa, rules, seed)?;
-    let ra = record(&mut a, steps, every, |_| tick(every))?;
-    let mut b = Pipe::new(pb, rules, seed)?;
-    let rb = record(&mut b, steps, every, |_| tick(every))?;
+    let mut a = engine.build(pa, rules, seed)?;
+    let ra = record(a.as_mut(), steps, every, |_| tick(every))?;
+    let mut b = engine.build(pb, rules, seed)?;
+    let rb = record(b.as_mut(), steps, every, |_| tick(every))?;
     b.set_p(0.1)?;
-    let mut rc = record(&mut b, steps, every, |_| tick(every))?;
+    let mut rc = record(b.as_mut(), steps, every, |_| tick(every))?;
     rc.n.remove(0); // the first sample of (c) is the last of (b)
     rc.energy.remove(0);
     rc.t0 += every;
-    let mut d = Pipe::new(pd, rules, seed)?;
-    let rd = record(&mut d, steps, every, |_| tick(every))?;
+    let mut d = engine.build(pd, rules, seed)?;
+    let rd = record(d.as_mut(), steps, every, |_| tick(every))?;
     Ok(vec![
         stats(ra, &pa),
         stats(rb, &pb),
@@ -177,9 +179,16 @@ pub fn fig1_panels(
 
 /// Band statistics of one run of `steps` steps sampled every `every`, over
 /// the second half (MODEL.md A11).
-pub fn run_bands(params: Params, rules: Rules, seed: u64, steps: u64, every: u64) -> Result<Bands> {
-    let mut pipe = Pipe::new(params, rules, seed)?;
-    let rec = record(&mut pipe, steps, every, |_| {})?;
+pub fn run_bands(
+    params: Params,
+    rules: Rules,
+    engine: Engine,
+    seed: u64,
+    steps: u64,
+    every: u64,
+) -> Result<Bands> {
+    let mut pipe = engine.build(params, rules, seed)?;
+    let rec = record(pipe.as_mut(), steps, every, |_| {})?;
     Ok(bands(
         &rec,
         rec.n.len() / 2,
@@ -223,14 +232,15 @@ impl Steady {
         &self,
         params: Params,
         rules: Rules,
+        engine: Engine,
         seed: u64,
         tick: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<Vec<f64>>> {
-        let mut pipe = Pipe::new(params, rules, seed)?;
+        let mut pipe = engine.build(params, rules, seed)?;
         pipe.run(self.warmup)?;
         tick(self.warmup);
         let steps = self.fields.saturating_sub(1) as u64 * self.every;
-        Ok(record(&mut pipe, steps, self.every, |_| tick(self.every))?.n)
+        Ok(record(pipe.as_mut(), steps, self.every, |_| tick(self.every))?.n)
     }
 }
 
@@ -264,11 +274,12 @@ pub struct Relaxation {
 pub fn relaxation(
     params: Params,
     rules: Rules,
+    engine: Engine,
     seed: u64,
     times: &[u64],
     tick: &(dyn Fn(u64) + Sync),
 ) -> Result<Relaxation> {
-    let mut pipe = Pipe::new(params, rules, seed)?;
+    let mut pipe = engine.build(params, rules, seed)?;
     let mut bins = vec![0.0; params.bins()];
     let e0 = pipe.moving_count() as f64;
     let mut s = Relaxation {

@@ -3,7 +3,8 @@
 //! spectrum, the exponent alpha over the fit range with the peak removed, and
 //! the wave velocity from the peak; per run and over an ensemble of runs.
 
-use super::{Params, Pipe, Rules};
+use super::engine::Engine;
+use super::{Params, Rules};
 use crate::analysis::fit::{estimate_alpha, wave_velocity, AlphaEstimate};
 use crate::analysis::grading::{Claim, Estimate};
 use crate::analysis::spectrum::{average_spectra, spctrm, SpectrumParams, Window};
@@ -21,6 +22,8 @@ pub struct SpectrumSetup {
     pub params: Params,
     /// The rule reading.
     pub rules: Rules,
+    /// The engine that runs it (`--engine`, issue 13).
+    pub engine: Engine,
     /// Steps discarded before recording (transient from the random start).
     pub transient: u64,
     /// T0: steps between samples (10 in the papers).
@@ -77,7 +80,7 @@ pub fn bin_spectrum(
     seed: u64,
     tick: &(dyn Fn(u64) + Sync),
 ) -> Result<SpectrumRun> {
-    let mut pipe = Pipe::new(setup.params, setup.rules, seed)?;
+    let mut pipe = setup.engine.build(setup.params, setup.rules, seed)?;
     let chunk = 10_000u64;
     let mut left = setup.transient;
     while left > 0 {
@@ -292,10 +295,16 @@ pub fn spectrum_rows(ens: &SpectrumEnsemble) -> Vec<Vec<f64>> {
 /// The spectrum set-up of a tier: `quick` m = 4096 (65536 samples per run),
 /// `standard` m = 8192, `paper` m = 16384 (the papers' 256K samples); always
 /// k = 4, T0 = 10, bin 0, and a transient of 50000 steps.
-pub fn tier_setup(tier: crate::run::Tier, params: Params, rules: Rules) -> SpectrumSetup {
+pub fn tier_setup(
+    tier: crate::run::Tier,
+    params: Params,
+    rules: Rules,
+    engine: Engine,
+) -> SpectrumSetup {
     SpectrumSetup {
         params,
         rules,
+        engine,
         transient: 50_000,
         t0: 10,
         m: tier.pick(4096, 8192, 16384),
@@ -361,9 +370,10 @@ pub fn run_figure(
     fig: &SpectrumFigure,
     common: &crate::cli::Common,
     rules: Rules,
+    engine: Engine,
 ) -> Result<Option<crate::run::Summary>> {
     use crate::run::{derive_seed, Check, Output, Summary};
-    let setup = tier_setup(common.tier, fig.params, rules);
+    let setup = tier_setup(common.tier, fig.params, rules, engine);
     let runs = common.runs_or(4, 8, 8);
     let seeds: Vec<u64> = (0..runs as u64)
         .map(|i| derive_seed(common.seed, i))
@@ -451,6 +461,7 @@ pub fn run_figure(
         seeds,
         params: serde_json::json!({"pipe": fig.params, "setup": setup}),
         rules: rules.to_string(),
+        engine: engine.to_string(),
         wall_seconds: wall,
         site_updates: (runs as u64 * setup.steps() * p.sites() as u64) as f64,
         metrics,

@@ -436,6 +436,8 @@ pub struct SweepFigure<'a> {
     pub args: &'a crate::cli::PipeArgs,
     /// The parsed rule reading.
     pub rules: Rules,
+    /// The engine that runs it (`--engine`).
+    pub engine: super::engine::Engine,
     /// Runs per point.
     pub runs: usize,
     /// The points, in order.
@@ -458,8 +460,9 @@ impl<'a> SweepFigure<'a> {
         points: Vec<SweepPoint>,
     ) -> Result<Option<Self>> {
         let (figure, rules, c) = args.rules.start(&args.common, binary, paper)?;
+        let engine = args.rules.engine()?;
         let runs = c.runs_or(2, 8, 32);
-        let setup_of = |p| super::spectra::tier_setup(c.tier, p, rules);
+        let setup_of = |p| super::spectra::tier_setup(c.tier, p, rules, engine);
         let Some(results) = run_sweep(c, binary, &points, runs, setup_of)? else {
             return Ok(None);
         };
@@ -468,6 +471,7 @@ impl<'a> SweepFigure<'a> {
             figure,
             args,
             rules,
+            engine,
             runs,
             points,
             results,
@@ -477,7 +481,7 @@ impl<'a> SweepFigure<'a> {
 
     /// The spectrum set-up of a pipe at this figure's tier and rules.
     pub fn setup_of(&self, params: Params) -> SpectrumSetup {
-        super::spectra::tier_setup(self.args.common.tier, params, self.rules)
+        super::spectra::tier_setup(self.args.common.tier, params, self.rules, self.engine)
     }
 
     /// Every result, in point order.
@@ -542,7 +546,12 @@ mod tests {
     #[test]
     fn invalid_runs_are_counted_not_fatal() {
         let params = Params::default();
-        let setup = tier_setup(Tier::Quick, params, Rules::default());
+        let setup = tier_setup(
+            Tier::Quick,
+            params,
+            Rules::default(),
+            crate::pipe::engine::Engine::Reference,
+        );
         let point = SweepPoint {
             label: "x".into(),
             x: vec![1.0],
@@ -573,7 +582,12 @@ mod tests {
             bin: 10,
             ..Params::default()
         };
-        let setup = tier_setup(Tier::Quick, params, Rules::default());
+        let setup = tier_setup(
+            Tier::Quick,
+            params,
+            Rules::default(),
+            crate::pipe::engine::Engine::Reference,
+        );
         match sweep_run(&setup, 1, &|_| {}).unwrap() {
             RunOutcome::Invalid(why) => assert!(why.contains("cannot be measured"), "{why}"),
             RunOutcome::Valid(r) => panic!("a constant series gave alpha = {}", r.alpha),
