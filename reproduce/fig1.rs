@@ -12,7 +12,7 @@
 use clap::Parser;
 use granular_automata::analysis::grading::{Claim, Estimate};
 use granular_automata::cli::{Common, PipeRules};
-use granular_automata::pipe::claims::WAVE_THRESHOLD;
+use granular_automata::drivers::claims::WAVE_THRESHOLD;
 use granular_automata::pipe::record::{fig1_panels, fig1_pipe, Bands, Record};
 use granular_automata::plot::{plot_err, png, value_range, SpaceTime};
 use granular_automata::run::{mean_sem_by, stat_metrics, Check, Figure};

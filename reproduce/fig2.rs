@@ -6,8 +6,8 @@
 //! `cargo run --release --bin fig2 -- --tier quick`
 
 use granular_automata::cli::PipeArgs;
-use granular_automata::pipe::claims::{ALPHA_MARGIN, V_MARGIN};
-use granular_automata::pipe::spectra::{run_figure, SpectrumFigure};
+use granular_automata::drivers::claims::{ALPHA_MARGIN, V_MARGIN};
+use granular_automata::drivers::spectra::{run_figure, SpectrumFigure};
 use granular_automata::pipe::Params;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -20,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // the default pipe is this figure's: L = 220, W = 11, rho = 1, p = g = b = 0.5
         params: Params::default(),
         // PH94: alpha = 1.33 +- 0.02 and a peak at v = 0.40; margins Delta
-        // fixed in session 2, as in the matrix (pipe::claims)
+        // fixed in session 2, as in the matrix (drivers::claims)
         alpha: (1.33, ALPHA_MARGIN),
         v_peak: Some((0.40, V_MARGIN)),
         note: "",

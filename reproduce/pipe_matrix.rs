@@ -8,7 +8,7 @@
 use clap::Parser;
 use granular_automata::analysis::grading::Kind;
 use granular_automata::cli::Common;
-use granular_automata::pipe::claims::{
+use granular_automata::drivers::claims::{
     grade, grade_steps, Graded, MatrixSize, Verdict, CLAIMS, GRADING_VERSION,
 };
 use granular_automata::pipe::engine::Engine;

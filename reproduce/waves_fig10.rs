@@ -6,7 +6,7 @@
 //! `cargo run --release --bin waves-fig10 -- --tier quick`
 
 use granular_automata::cli::PipeArgs;
-use granular_automata::pipe::sweep::{
+use granular_automata::drivers::sweep::{
     fig7_check, rise_check, sweep_chart, Curve, PointResult, Quantity, SweepFigure, SweepPoint,
     FIG7_QUICK_ALPHA_B0,
 };

@@ -11,14 +11,14 @@
 use clap::Parser;
 use granular_automata::analysis::grading::{Claim, Estimate, Kind};
 use granular_automata::cli::{Common, PipeArgs};
+use granular_automata::drivers::spectra::{spectra_chart, spectrum_lines, tier_setup};
+use granular_automata::drivers::sweep::{
+    header, point_metrics, run_sweep, site_updates, PointResult, SweepPoint,
+};
 use granular_automata::ensemble::Outcome;
 use granular_automata::pipe::engine::Engine;
 use granular_automata::pipe::open::{
     bisect_ic, open_run, stationarity, trend_threshold, PipeSize, Stationarity, TREND_FALSE_ALARM,
-};
-use granular_automata::pipe::spectra::{spectra_chart, spectrum_lines, tier_setup};
-use granular_automata::pipe::sweep::{
-    header, point_metrics, run_sweep, site_updates, PointResult, SweepPoint,
 };
 use granular_automata::pipe::{Boundary, Params, Rules};
 use granular_automata::plot::{errorbar_chart, line_chart, ErrSeries, Line, PALETTE};

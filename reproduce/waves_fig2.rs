@@ -14,7 +14,7 @@
 use clap::Parser;
 use granular_automata::analysis::grading::{Claim, Estimate};
 use granular_automata::cli::WaveOptions;
-use granular_automata::pipe::claims::WAVE_THRESHOLD;
+use granular_automata::drivers::claims::WAVE_THRESHOLD;
 use granular_automata::pipe::overlap::real_space_speed;
 use granular_automata::pipe::record::{bands, record, Record};
 use granular_automata::plot::{space_time_upward, stacked_profiles, value_range};

@@ -21,7 +21,7 @@ use granular_automata::analysis::grading::{Claim, Estimate};
 use granular_automata::analysis::spectrum::{average_spectra, SpectrumParams, Window};
 use granular_automata::analysis::waves::{peak_speed, spectral_peak};
 use granular_automata::cli::WaveOptions;
-use granular_automata::pipe::claims::WAVE_THRESHOLD;
+use granular_automata::drivers::claims::WAVE_THRESHOLD;
 use granular_automata::pipe::overlap::{late_lag_speed, SpeedRun};
 use granular_automata::pipe::record::Steady;
 use granular_automata::plot::{line_chart, mean_se_lines, points, Line, PALETTE};

@@ -4,8 +4,8 @@
 //! `cargo run --release --bin waves-fig6 -- --tier quick`
 
 use granular_automata::cli::PipeArgs;
-use granular_automata::pipe::claims::ALPHA_MARGIN;
-use granular_automata::pipe::spectra::{run_figure, SpectrumFigure};
+use granular_automata::drivers::claims::ALPHA_MARGIN;
+use granular_automata::drivers::spectra::{run_figure, SpectrumFigure};
 use granular_automata::pipe::Params;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -17,7 +17,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             p: 0.8,
             ..Params::default()
         },
-        // "about 1.33", graded with the matrix's margin (pipe::claims)
+        // "about 1.33", graded with the matrix's margin (drivers::claims)
         alpha: (1.33, ALPHA_MARGIN),
         v_peak: None,
         note: "; published 'about 1.33'",

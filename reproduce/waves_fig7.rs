@@ -7,8 +7,8 @@
 
 use granular_automata::analysis::grading::Claim;
 use granular_automata::cli::PipeArgs;
-use granular_automata::pipe::claims::ALPHA_MARGIN;
-use granular_automata::pipe::spectra::{
+use granular_automata::drivers::claims::ALPHA_MARGIN;
+use granular_automata::drivers::spectra::{
     resumable_ensemble, spectra_chart, spectrum_lines, spectrum_rows, tier_setup, SpectrumEnsemble,
     DISCREPANCY,
 };

@@ -6,7 +6,7 @@
 
 use clap::Parser;
 use granular_automata::cli::PipeArgs;
-use granular_automata::pipe::sweep::{
+use granular_automata::drivers::sweep::{
     fig7_check, plot_alpha_v, points_1d, rise_check, Curve, SweepFigure, FIG7_QUICK_ALPHA_P0,
 };
 use granular_automata::pipe::Params;

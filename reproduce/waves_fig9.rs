@@ -9,7 +9,7 @@
 use clap::Parser;
 use granular_automata::analysis::grading::Kind;
 use granular_automata::cli::PipeArgs;
-use granular_automata::pipe::sweep::{plot_alpha_v, points_1d, Curve, SweepFigure};
+use granular_automata::drivers::sweep::{plot_alpha_v, points_1d, Curve, SweepFigure};
 use granular_automata::pipe::Params;
 use granular_automata::plot::{errorbar_chart_at, ErrSeries, PALETTE};
 use granular_automata::run::Check;

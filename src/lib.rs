@@ -13,8 +13,8 @@
 //!   gravity (g), rough walls (b). Engine and rule readings in [`pipe`]
 //!   ([`pipe::Pipe`], [`pipe::Rules`], default `ph94+gravity-first+wall-move`);
 //!   the open pipe in [`pipe::open`]; observables in [`pipe::observables`],
-//!   [`pipe::overlap`] and [`pipe::spectra`]; the graded claims in
-//!   [`pipe::claims`].
+//!   [`pipe::overlap`] and [`drivers::spectra`]; the graded claims in
+//!   [`drivers::claims`].
 //! - The **hopper automaton** of Baxter & Behringer (BB90): oriented grains
 //!   choosing the state of least energy in a 60° wedge, filled by rain and
 //!   emptied through an outlet. In [`hopper`] ([`hopper::Hopper`]).
@@ -54,6 +54,7 @@
 
 pub mod analysis;
 pub mod cli;
+pub mod drivers;
 pub mod ensemble;
 pub mod error;
 pub mod hopper;

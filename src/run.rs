@@ -240,7 +240,7 @@ impl Check {
     }
 
     /// A check whose verdict was reached by the grading rule elsewhere (e.g.
-    /// a claim of the reproduction matrix, `crate::pipe::claims`).
+    /// a claim of the reproduction matrix, `crate::drivers::claims`).
     #[allow(clippy::too_many_arguments)]
     pub fn with_verdict(
         name: &str,

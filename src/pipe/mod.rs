@@ -17,7 +17,6 @@
 //! assert_eq!(pipe.bin_counts().len(), 6); // bins of 10 rows
 //! ```
 
-pub mod claims;
 pub mod collision;
 pub mod draws;
 pub mod engine;
@@ -27,8 +26,6 @@ pub mod open;
 pub mod overlap;
 pub mod record;
 pub mod rules;
-pub mod spectra;
-pub mod sweep;
 
 pub use rules::{GravityWording, RestPlacement, Rules};
 
@@ -39,6 +36,15 @@ use draws::Draws;
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
+
+/// Whether an error means the model is undefined for this run (MODEL.md A4)
+/// rather than a bug or bad input.
+pub fn is_validity_limit(kind: ErrorKind) -> bool {
+    matches!(
+        kind,
+        ErrorKind::RestExceedsSites | ErrorKind::RelocationStuck
+    )
+}
 
 /// What happens at the two ends of the pipe (MODEL.md A7).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

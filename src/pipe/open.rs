@@ -103,7 +103,7 @@ pub fn open_run(
     };
     for _ in 0..steps / every {
         if let Err(e) = pipe.run(every) {
-            if crate::pipe::sweep::is_validity_limit(e.kind) {
+            if super::is_validity_limit(e.kind) {
                 rec.stopped = Some((pipe.time(), e.message));
                 break;
             }

@@ -5,11 +5,11 @@
 //! (see `equivalent`, [`GRADING_VERSION`]), before the new readings of
 //! that session were graded.
 
-use super::engine::Engine;
-use super::record::{fig1_panels, run_bands};
 use super::spectra::{spectrum_ensemble, tier_setup, SpectrumEnsemble};
-use super::{Params, Rules};
 use crate::error::{ErrorKind, Result};
+use crate::pipe::engine::Engine;
+use crate::pipe::record::{fig1_panels, run_bands};
+use crate::pipe::{Params, Rules};
 use crate::run::{derive_seed, ensemble, Tier};
 use serde::{Deserialize, Serialize};
 

@@ -11,9 +11,9 @@
 //! the point counts it as invalid, with the reason, and the sweep goes on.
 
 use super::spectra::{bin_spectrum, combine, SpectrumEnsemble, SpectrumRun, SpectrumSetup};
-use super::{Params, Rules};
 use crate::analysis::grading::{Claim, Estimate};
 use crate::error::{ErrorKind, Result};
+use crate::pipe::{Params, Rules};
 use crate::run::mean_sem;
 use serde::{Deserialize, Serialize};
 
@@ -98,14 +98,7 @@ pub fn header<'a>(x_names: &[&'a str]) -> Vec<&'a str> {
     h
 }
 
-/// Whether an error means the model is undefined for this run (MODEL.md A4)
-/// rather than a bug or bad input.
-pub fn is_validity_limit(kind: ErrorKind) -> bool {
-    matches!(
-        kind,
-        ErrorKind::RestExceedsSites | ErrorKind::RelocationStuck
-    )
-}
+pub use crate::pipe::is_validity_limit;
 
 /// One run of a sweep point: the spectrum, or `Invalid` when the model
 /// leaves its domain or the run's series cannot be measured
@@ -437,7 +430,7 @@ pub struct SweepFigure<'a> {
     /// The parsed rule reading.
     pub rules: Rules,
     /// The engine that runs it (`--engine`).
-    pub engine: super::engine::Engine,
+    pub engine: crate::pipe::engine::Engine,
     /// Runs per point.
     pub runs: usize,
     /// The points, in order.
@@ -540,7 +533,7 @@ impl<'a> SweepFigure<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pipe::spectra::tier_setup;
+    use crate::drivers::spectra::tier_setup;
     use crate::run::Tier;
 
     #[test]

@@ -3,12 +3,12 @@
 //! spectrum, the exponent alpha over the fit range with the peak removed, and
 //! the wave velocity from the peak; per run and over an ensemble of runs.
 
-use super::engine::Engine;
-use super::{Params, Rules};
 use crate::analysis::fit::{estimate_alpha, wave_velocity, AlphaEstimate};
 use crate::analysis::grading::{Claim, Estimate};
 use crate::analysis::spectrum::{average_spectra, spctrm, SpectrumParams, Window};
 use crate::error::Result;
+use crate::pipe::engine::Engine;
+use crate::pipe::{Params, Rules};
 use crate::plot::{line_chart_at, Line, PALETTE};
 use crate::run::{ensemble, mean_sem};
 use plotters::chart::SeriesLabelPosition;
