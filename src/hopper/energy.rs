@@ -57,6 +57,20 @@ impl Aligned {
     }
 }
 
+/// What "aligned along one of their velocity vectors" (BB90 eq. 5) means for
+/// a pair of grains that are both at rest, which have no velocity vector
+/// (HOPPER_READINGS.md R1b; only read by [`Aligned::AlongVelocity`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum RestPairs {
+    /// No velocity, so never aligned (the literal reading; default).
+    #[default]
+    NotAligned,
+    /// With no velocity to align along, equal orientations count as aligned
+    /// (`rest-same`).
+    SameOrientation,
+}
+
 /// Parameters of the energy (MODEL.md B4); defaults from BB90 Fig. 2.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct EnergyParams {
@@ -74,6 +88,8 @@ pub struct EnergyParams {
     pub gamma: f64,
     /// The reading of "aligned" (MODEL.md B4).
     pub aligned: Aligned,
+    /// "Aligned" for two grains at rest (HOPPER_READINGS.md R1b).
+    pub rest_pairs: RestPairs,
 }
 
 impl Default for EnergyParams {
@@ -88,6 +104,7 @@ impl Default for EnergyParams {
             beta: 1.0,
             gamma: 2.0,
             aligned: Aligned::AlongVelocity,
+            rest_pairs: RestPairs::NotAligned,
         }
     }
 }
@@ -181,6 +198,12 @@ pub fn f_shear(vi: usize, vn: usize) -> f64 {
 
 /// Whether states `si`, `sn` are aligned under `reading` (MODEL.md B4).
 pub fn aligned(si: usize, sn: usize, reading: Aligned) -> bool {
+    aligned_with(si, sn, reading, RestPairs::NotAligned)
+}
+
+/// [`aligned`] with the reading `rest` for two grains at rest
+/// (HOPPER_READINGS.md R1b).
+pub fn aligned_with(si: usize, sn: usize, reading: Aligned, rest: RestPairs) -> bool {
     let (oi, on) = (orientation(si), orientation(sn));
     if oi != on {
         return false;
@@ -189,7 +212,9 @@ pub fn aligned(si: usize, sn: usize, reading: Aligned) -> bool {
         Aligned::SameOrientation => true,
         Aligned::AlongVelocity => {
             let (vi, vn) = (motion(si), motion(sn));
-            (vi != 0 && axis_of(vi) == oi) || (vn != 0 && axis_of(vn) == oi)
+            (vi != 0 && axis_of(vi) == oi)
+                || (vn != 0 && axis_of(vn) == oi)
+                || (vi == 0 && vn == 0 && rest == RestPairs::SameOrientation)
         }
     }
 }
@@ -215,7 +240,7 @@ impl EnergyTable {
         for si in 0..STATES {
             for sn in 0..STATES {
                 let shear = f_shear(motion(si), motion(sn)).powf(params.alpha);
-                let orient = if aligned(si, sn, params.aligned) {
+                let orient = if aligned_with(si, sn, params.aligned, params.rest_pairs) {
                     params.s
                 } else {
                     1.0

@@ -3,10 +3,15 @@
 //! `hopper-fig3` and `tests/hopper_*.rs`, so the tests assert the very
 //! numbers the figures report.
 
-use super::energy::{motion, orientation, Aligned};
+use super::energy::{motion, orientation, Aligned, RestPairs};
 use super::geometry::Geometry;
-use super::model::{grain_state, is_grain, Hopper, HopperParams};
-use super::observables::{correlation_length, orientation_correlation, Activity, OutflowStats};
+use super::model::{
+    grain_state, is_grain, ConflictRule, Dynamics, Hopper, HopperParams, UpdateOrder,
+};
+use super::observables::{
+    correlation_length, enclosed_vacancies, orientation_correlation, surface_slope, Activity,
+    OutflowStats,
+};
 use crate::error::{check_range, Result};
 use crate::run::{ensemble_with_threads, progress};
 
@@ -70,6 +75,8 @@ pub struct Record {
     pub g_filled: Vec<f64>,
     /// g(r) when half the grains had left.
     pub g_half: Vec<f64>,
+    /// Snapshot when half the grains had left (sites).
+    pub half: Vec<u8>,
     /// Grains leaving per iteration after opening.
     pub outflow: Vec<f64>,
     /// Grains inside after each iteration after opening.
@@ -138,7 +145,7 @@ pub type Measure = fn(&Record, &Geometry, &[usize; 2]) -> f64;
 /// of `hopper-fig2`, after the case): core widths and occupancies at the
 /// core rows, activity at the centre and next to the walls, order and
 /// correlation length of the orientations, emptying.
-pub const FIG2_MEASURES: [(&str, Measure); 20] = [
+pub const FIG2_MEASURES: [(&str, Measure); 23] = [
     ("core_width_low", |r, g, y| r.activity.core_width(g, y[0])),
     ("core_width_high", |r, g, y| r.activity.core_width(g, y[1])),
     ("occupancy_core", |r, g, y| {
@@ -174,6 +181,15 @@ pub const FIG2_MEASURES: [(&str, Measure); 20] = [
     ("fill_iterations", |r, _, _| r.fill_iterations as f64),
     ("mean_rate", |r, _, _| {
         r.removed as f64 / r.empty_iterations.max(1) as f64
+    }),
+    ("core_width_change", |r, g, y| {
+        r.activity.core_width(g, y[1]) - r.activity.core_width(g, y[0])
+    }),
+    ("surface_slope_half_empty", |r, g, _| {
+        surface_slope(g, &r.half)
+    }),
+    ("vacancies_per_1000_half_empty", |r, g, _| {
+        enclosed_vacancies(g, &r.half)
     }),
 ];
 
@@ -214,6 +230,7 @@ pub fn run(params: HopperParams, seed: u64, plan: &Plan) -> Result<Record> {
     let mut activity = Activity::new(h.geometry());
     let mut snapshots = Vec::new();
     let mut g_half = Vec::new();
+    let mut half = Vec::new();
     let mut outflow = Vec::new();
     let mut inside = Vec::new();
     let mut moving_by_orientation = [0u64; 3];
@@ -253,6 +270,7 @@ pub fn run(params: HopperParams, seed: u64, plan: &Plan) -> Result<Record> {
         }
         if g_half.is_empty() && 2 * h.grains() <= initial {
             g_half = orientation_correlation(&h, plan.rmax);
+            half = h.sites().to_vec();
         }
         if plan.snapshots.contains(&t) {
             snapshots.push((t, h.sites().to_vec()));
@@ -260,6 +278,7 @@ pub fn run(params: HopperParams, seed: u64, plan: &Plan) -> Result<Record> {
     }
     if g_half.is_empty() {
         g_half = orientation_correlation(&h, plan.rmax);
+        half = h.sites().to_vec();
     }
     Ok(Record {
         initial,
@@ -270,6 +289,7 @@ pub fn run(params: HopperParams, seed: u64, plan: &Plan) -> Result<Record> {
         activity,
         g_filled,
         g_half,
+        half,
         outflow,
         inside,
         emptied: h.grains() == 0,
@@ -295,6 +315,12 @@ pub struct Case {
     pub beta: f64,
     /// Reading of "aligned" (MODEL.md B4).
     pub aligned: Aligned,
+    /// Reading of "aligned" for two grains at rest (HOPPER_READINGS.md R1b).
+    pub rest_pairs: RestPairs,
+    /// Rain width as a multiple of the tier's sigma (HOPPER_READINGS.md R7).
+    pub rain_scale: f64,
+    /// Update order and conflict rule (HOPPER_READINGS.md R4-R5).
+    pub dynamics: Dynamics,
 }
 
 impl Case {
@@ -304,13 +330,19 @@ impl Case {
         caption: "beta = 0",
         beta: 0.0,
         aligned: Aligned::AlongVelocity,
+        rest_pairs: RestPairs::NotAligned,
+        rain_scale: 1.0,
+        dynamics: Dynamics {
+            order: UpdateOrder::Synchronous,
+            conflict: ConflictRule::KeepOrientation,
+        },
     };
     /// Orientation on (beta = 1), "aligned" read literally: along the velocity.
     pub const BETA1_ALONG: Case = Case {
         key: "beta1_along",
         caption: "beta = 1, aligned = along-velocity",
         beta: 1.0,
-        aligned: Aligned::AlongVelocity,
+        ..Case::BETA0
     };
     /// Orientation on (beta = 1), "aligned" read as the same orientation.
     pub const BETA1_SAME: Case = Case {
@@ -318,19 +350,130 @@ impl Case {
         caption: "beta = 1, aligned = same-orientation",
         beta: 1.0,
         aligned: Aligned::SameOrientation,
+        ..Case::BETA0
     };
+    /// beta = 1, literal reading, and two grains at rest count as aligned
+    /// when their orientations agree (HOPPER_READINGS.md R1b).
+    pub const BETA1_REST: Case = Case {
+        key: "beta1_rest",
+        caption: "beta = 1, aligned = along-velocity, rest pairs = same",
+        rest_pairs: RestPairs::SameOrientation,
+        ..Case::BETA1_ALONG
+    };
+    /// The literal reading filled by a narrow rain, sigma a quarter of the
+    /// tier's (HOPPER_READINGS.md R7).
+    pub const BETA1_ALONG_NARROW: Case = Case {
+        key: "beta1_along_narrow",
+        caption: "beta = 1, along-velocity, narrow rain",
+        rain_scale: 0.25,
+        ..Case::BETA1_ALONG
+    };
+    /// The same-orientation reading filled by a narrow rain.
+    pub const BETA1_SAME_NARROW: Case = Case {
+        key: "beta1_same_narrow",
+        caption: "beta = 1, same-orientation, narrow rain",
+        rain_scale: 0.25,
+        ..Case::BETA1_SAME
+    };
+    /// The rest-pairs reading filled by a narrow rain.
+    pub const BETA1_REST_NARROW: Case = Case {
+        key: "beta1_rest_narrow",
+        caption: "beta = 1, along-velocity, rest pairs = same, narrow rain",
+        rain_scale: 0.25,
+        ..Case::BETA1_REST
+    };
+    /// beta = 0 with grains updated one at a time in a random order (a
+    /// diagnostic that contradicts BB90's "simultaneously").
+    pub const BETA0_SEQUENTIAL: Case = Case {
+        key: "beta0_sequential",
+        caption: "beta = 0, sequential update",
+        dynamics: Dynamics {
+            order: UpdateOrder::Sequential,
+            conflict: ConflictRule::KeepOrientation,
+        },
+        ..Case::BETA0
+    };
+    /// beta = 0 with the losers of a conflict reverting their orientation.
+    pub const BETA0_REVERT: Case = Case {
+        key: "beta0_revert",
+        caption: "beta = 0, conflict losers revert",
+        dynamics: Dynamics {
+            order: UpdateOrder::Synchronous,
+            conflict: ConflictRule::Revert,
+        },
+        ..Case::BETA0
+    };
+    /// The literal reading with the sequential update (diagnostic).
+    pub const BETA1_ALONG_SEQUENTIAL: Case = Case {
+        key: "beta1_along_sequential",
+        caption: "beta = 1, along-velocity, sequential update",
+        dynamics: Case::BETA0_SEQUENTIAL.dynamics,
+        ..Case::BETA1_ALONG
+    };
+    /// The literal reading with conflict losers reverting.
+    pub const BETA1_ALONG_REVERT: Case = Case {
+        key: "beta1_along_revert",
+        caption: "beta = 1, along-velocity, conflict losers revert",
+        dynamics: Case::BETA0_REVERT.dynamics,
+        ..Case::BETA1_ALONG
+    };
+    /// The same-orientation reading with the sequential update (diagnostic).
+    pub const BETA1_SAME_SEQUENTIAL: Case = Case {
+        key: "beta1_same_sequential",
+        caption: "beta = 1, same-orientation, sequential update",
+        dynamics: Case::BETA0_SEQUENTIAL.dynamics,
+        ..Case::BETA1_SAME
+    };
+
+    /// Every named case, for `--cases`.
+    pub const ALL: [Case; 12] = [
+        Case::BETA0,
+        Case::BETA1_ALONG,
+        Case::BETA1_SAME,
+        Case::BETA1_REST,
+        Case::BETA1_ALONG_NARROW,
+        Case::BETA1_SAME_NARROW,
+        Case::BETA1_REST_NARROW,
+        Case::BETA0_SEQUENTIAL,
+        Case::BETA0_REVERT,
+        Case::BETA1_ALONG_SEQUENTIAL,
+        Case::BETA1_ALONG_REVERT,
+        Case::BETA1_SAME_SEQUENTIAL,
+    ];
+
+    /// The cases named in the comma-separated list `keys`; a typed error
+    /// names an unknown key and the known ones.
+    pub fn parse_list(keys: &str) -> Result<Vec<Case>> {
+        keys.split(',')
+            .map(|k| {
+                let k = k.trim();
+                Case::ALL
+                    .iter()
+                    .find(|c| c.key == k)
+                    .copied()
+                    .ok_or_else(|| {
+                        let known: Vec<&str> = Case::ALL.iter().map(|c| c.key).collect();
+                        crate::error::Error::out_of_range("case", k, &known.join(", "))
+                    })
+            })
+            .collect()
+    }
 
     /// `base` with this case's beta and reading.
     pub fn params(&self, base: HopperParams) -> HopperParams {
         let mut p = base;
         p.energy.beta = self.beta;
         p.energy.aligned = self.aligned;
+        p.energy.rest_pairs = self.rest_pairs;
+        p.rain.sigma *= self.rain_scale;
+        p.dynamics = self.dynamics;
         p
     }
 
     /// The case as recorded in `summary.json`: key, beta and reading.
     pub fn json(&self) -> serde_json::Value {
-        serde_json::json!({"key": self.key, "beta": self.beta, "aligned": self.aligned.name()})
+        serde_json::json!({"key": self.key, "beta": self.beta, "aligned": self.aligned.name(),
+            "rest_pairs": self.rest_pairs, "rain_scale": self.rain_scale, "dynamics": self.dynamics})
     }
 }
 

@@ -24,6 +24,8 @@ pub mod model;
 pub mod observables;
 pub mod picture;
 
-pub use energy::{Aligned, DilationParams, DilationReading, EnergyParams, EnergyTable};
+pub use energy::{Aligned, DilationParams, DilationReading, EnergyParams, EnergyTable, RestPairs};
 pub use geometry::{Geometry, GeometryParams};
-pub use model::{Hopper, HopperParams, RainParams, StepReport};
+pub use model::{
+    ConflictRule, Dynamics, Hopper, HopperParams, RainParams, StepReport, UpdateOrder,
+};

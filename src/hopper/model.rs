@@ -54,6 +54,41 @@ impl Default for RainParams {
     }
 }
 
+/// The order of the interaction step (HOPPER_READINGS.md R5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum UpdateOrder {
+    /// All grains choose at once from the previous iteration, then move
+    /// (BB90: "simultaneously"; default).
+    #[default]
+    Synchronous,
+    /// Wrong reading kept as a diagnostic (it contradicts "simultaneously"):
+    /// grains choose and move one at a time in a random order, each seeing
+    /// the moves already made (no conflicts can arise).
+    Sequential,
+}
+
+/// What the losers of a conflict for one hole do (HOPPER_READINGS.md R4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum ConflictRule {
+    /// The losers come to rest keeping the orientation they chose (default).
+    #[default]
+    KeepOrientation,
+    /// The losers come to rest in the orientation they had before
+    /// (`conflict-revert`).
+    Revert,
+}
+
+/// The update rules of one iteration that the text leaves open (MODEL.md B3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+pub struct Dynamics {
+    /// Order of the interaction step.
+    pub order: UpdateOrder,
+    /// The losers of a conflict.
+    pub conflict: ConflictRule,
+}
+
 /// All parameters of a hopper run.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
 pub struct HopperParams {
@@ -65,6 +100,8 @@ pub struct HopperParams {
     pub dilation: DilationParams,
     /// Filling (MODEL.md B5).
     pub rain: RainParams,
+    /// Update order and conflict rule (MODEL.md B3).
+    pub dynamics: Dynamics,
 }
 
 impl HopperParams {
@@ -83,11 +120,15 @@ impl HopperParams {
     /// One line naming the rule variants.
     pub fn rules(&self) -> String {
         format!(
-            "BB90 hopper (MODEL.md B): aligned = {}, dilation = {:?} (K = {}, tau = {}), walls not in the energy sum, synchronous interaction, conflicts to the lowest E",
+            "BB90 hopper (MODEL.md B): aligned = {}, rest pairs = {:?}, dilation = {:?} (K = {}, tau = {}), walls not in the energy sum, {:?} interaction, conflicts to the lowest E (losers: {:?}), rain sigma {}",
             self.energy.aligned.name(),
+            self.energy.rest_pairs,
             self.dilation.reading,
             self.dilation.k,
-            self.dilation.tau
+            self.dilation.tau,
+            self.dynamics.order,
+            self.dynamics.conflict,
+            self.rain.sigma
         )
     }
 }
@@ -283,10 +324,127 @@ impl Hopper {
         }
     }
 
+    /// The state grain `i` takes in the interaction step, from the current
+    /// `site` array, and whether it was evaluated (MODEL.md B3); sets
+    /// `energy[i]` for a moving choice.
+    fn choose(&mut self, i: usize) -> (usize, bool) {
+        let s = grain_state(self.site[i]);
+        let nb = self.geom.nbr[i];
+        let hole_below = self.hole(nb[2]) || self.hole(nb[3]) || self.hole(nb[4]);
+        let moving_nbr = nb.iter().any(|&j| {
+            j != OFF
+                && is_grain(self.site[j as usize])
+                && motion(grain_state(self.site[j as usize])) != 0
+        });
+        if hole_below || moving_nbr {
+            // candidate motions: rest and the directions towards holes
+            let mut cand = [0usize; 7];
+            let mut nc = 1;
+            for c in 1..=6 {
+                if self.hole(nb[c - 1]) {
+                    cand[nc] = c;
+                    nc += 1;
+                }
+            }
+            let mut best = f64::INFINITY;
+            let mut best_s = s;
+            let mut nties = 0u32;
+            for o in 0..3 {
+                for &v in &cand[..nc] {
+                    let t = state(o, v);
+                    let e = self.energy_of(i, t, hole_below);
+                    let tol = 1e-9 * e.abs().max(1.0);
+                    if nties == 0 || e < best - tol {
+                        best = e;
+                        best_s = t;
+                        nties = 1;
+                    } else if e <= best + tol {
+                        nties += 1;
+                        if self.rng.random_range(0..nties) == 0 {
+                            best_s = t;
+                        }
+                    }
+                }
+            }
+            self.energy[i] = best;
+            (best_s, true)
+        } else {
+            let v = motion(s);
+            if v != 0 && !self.hole(nb[v - 1]) {
+                (state(orientation(s), 0), false)
+            } else {
+                if v != 0 {
+                    self.energy[i] = self.energy_of(i, s, hole_below);
+                }
+                (s, false)
+            }
+        }
+    }
+
     /// One iteration (MODEL.md B3), then rain if `rain` (MODEL.md B5), then
     /// the spacing update (MODEL.md B4).
     pub fn step(&mut self, rain: bool) -> StepReport {
         let mut report = StepReport::default();
+        match self.params.dynamics.order {
+            UpdateOrder::Synchronous => self.step_synchronous(&mut report),
+            UpdateOrder::Sequential => self.step_sequential(&mut report),
+        }
+        self.finish_step(rain, report)
+    }
+
+    /// Interaction and propagation one grain at a time in a random order
+    /// ([`UpdateOrder::Sequential`]).
+    fn step_sequential(&mut self, report: &mut StepReport) {
+        let n = self.site.len();
+        self.movers.clear();
+        for i in 0..n {
+            if is_grain(self.site[i]) {
+                self.movers.push(i as u32);
+            }
+        }
+        for k in (1..self.movers.len()).rev() {
+            let j = self.rng.random_range(0..=k);
+            self.movers.swap(k, j);
+        }
+        // `ties` marks the sites that received a grain in this iteration
+        let order = std::mem::take(&mut self.movers);
+        for &i in &order {
+            let i = i as usize;
+            if !is_grain(self.site[i]) || self.ties[i] == 1 {
+                continue;
+            }
+            let (new_s, evaluated) = self.choose(i);
+            report.evaluated += evaluated as u32;
+            let v = motion(new_s);
+            if v == 0 {
+                self.site[i] = grain(new_s);
+                continue;
+            }
+            let t = self.geom.nbr[i][v - 1] as usize;
+            report.moved += 1;
+            if self.geom.kind[t] == SiteKind::Plug {
+                report.outflow += 1;
+            } else {
+                self.site[t] = grain(new_s);
+                self.dil[t] = self.dil[i];
+                self.ties[t] = 1;
+            }
+            self.site[i] = HOLE;
+        }
+        for &i in &order {
+            for j in self.geom.nbr[i as usize] {
+                if j != OFF {
+                    self.ties[j as usize] = 0;
+                }
+            }
+        }
+        self.movers = order;
+        self.site_updates += n as f64 + 21.0 * report.evaluated as f64;
+    }
+
+    /// The synchronous interaction step and the propagation with the
+    /// conflict rule (MODEL.md B3).
+    fn step_synchronous(&mut self, report: &mut StepReport) {
         let n = self.site.len();
         self.movers.clear();
         // 1. interaction, synchronous on the previous states
@@ -296,58 +454,8 @@ impl Hopper {
                 self.next[i] = si;
                 continue;
             }
-            let s = grain_state(si);
-            let nb = self.geom.nbr[i];
-            let hole_below = self.hole(nb[2]) || self.hole(nb[3]) || self.hole(nb[4]);
-            let moving_nbr = nb.iter().any(|&j| {
-                j != OFF
-                    && is_grain(self.site[j as usize])
-                    && motion(grain_state(self.site[j as usize])) != 0
-            });
-            let new_s = if hole_below || moving_nbr {
-                report.evaluated += 1;
-                // candidate motions: rest and the directions towards holes
-                let mut cand = [0usize; 7];
-                let mut nc = 1;
-                for c in 1..=6 {
-                    if self.hole(nb[c - 1]) {
-                        cand[nc] = c;
-                        nc += 1;
-                    }
-                }
-                let mut best = f64::INFINITY;
-                let mut best_s = s;
-                let mut nties = 0u32;
-                for o in 0..3 {
-                    for &v in &cand[..nc] {
-                        let t = state(o, v);
-                        let e = self.energy_of(i, t, hole_below);
-                        let tol = 1e-9 * e.abs().max(1.0);
-                        if nties == 0 || e < best - tol {
-                            best = e;
-                            best_s = t;
-                            nties = 1;
-                        } else if e <= best + tol {
-                            nties += 1;
-                            if self.rng.random_range(0..nties) == 0 {
-                                best_s = t;
-                            }
-                        }
-                    }
-                }
-                self.energy[i] = best;
-                best_s
-            } else {
-                let v = motion(s);
-                if v != 0 && !self.hole(nb[v - 1]) {
-                    state(orientation(s), 0)
-                } else {
-                    if v != 0 {
-                        self.energy[i] = self.energy_of(i, s, hole_below);
-                    }
-                    s
-                }
-            };
+            let (new_s, evaluated) = self.choose(i);
+            report.evaluated += evaluated as u32;
             self.next[i] = grain(new_s);
             if motion(new_s) != 0 {
                 self.movers.push(i as u32);
@@ -393,7 +501,11 @@ impl Hopper {
                 }
                 self.next[i] = HOLE;
             } else {
-                self.next[i] = grain(state(orientation(s), 0));
+                let o = match self.params.dynamics.conflict {
+                    ConflictRule::KeepOrientation => orientation(s),
+                    ConflictRule::Revert => orientation(grain_state(self.site[i])),
+                };
+                self.next[i] = grain(state(o, 0));
             }
         }
         for k in 0..self.movers.len() {
@@ -406,6 +518,10 @@ impl Hopper {
         }
         std::mem::swap(&mut self.site, &mut self.next);
         std::mem::swap(&mut self.dil, &mut self.next_dil);
+    }
+
+    /// Outflow bookkeeping, rain (MODEL.md B5) and the spacing (MODEL.md B4).
+    fn finish_step(&mut self, rain: bool, mut report: StepReport) -> StepReport {
         self.removed += report.outflow as u64;
         // 3. rain on the empty sites of the top row
         let mut fresh: Vec<usize> = Vec::new();

@@ -193,6 +193,58 @@ pub fn orientation_correlation_of(g: &Geometry, sites: &[u8], rmax: usize) -> Ve
         .collect()
 }
 
+/// The V shape of the upper free surface (BB90 Fig. 2a, Figs. 2c-f): with
+/// top(x) the highest grain of column x (drawn coordinates, mean over
+/// columns x-1..=x+1) and q = width/6 columns, the slope
+/// [(top(c - q) + top(c + q))/2 - top(c)] / (q sqrt(3)/2) about the outlet
+/// column c: 0 for a flat surface, tan of the surface angle for a V; NaN
+/// when one of those columns holds no grain.
+pub fn surface_slope(g: &Geometry, sites: &[u8]) -> f64 {
+    let w = g.width();
+    let q = w / 6;
+    let c = g.centre_column;
+    if q == 0 || c < q + 1 || c + q + 1 >= w || sites.len() != g.kind.len() {
+        return f64::NAN;
+    }
+    let top_column = |x: usize| -> Option<f64> {
+        (0..g.height())
+            .rev()
+            .find(|&y| is_grain(sites[g.index(x, y)]))
+            .map(|y| y as f64 + 0.5 * (x % 2) as f64)
+    };
+    let top = |x: usize| -> Option<f64> {
+        let t: Option<Vec<f64>> = (x - 1..=x + 1).map(top_column).collect();
+        t.map(|t| t.iter().sum::<f64>() / 3.0)
+    };
+    match (top(c - q), top(c), top(c + q)) {
+        (Some(l), Some(m), Some(r)) => (0.5 * (l + r) - m) / (q as f64 * 3f64.sqrt() / 2.0),
+        _ => f64::NAN,
+    }
+}
+
+/// Defects in the body of the material (BB90 abstract): holes inside the
+/// container whose six neighbours are all grains or walls, per 1000 grains;
+/// NaN when there are no grains.
+pub fn enclosed_vacancies(g: &Geometry, sites: &[u8]) -> f64 {
+    if sites.len() != g.kind.len() {
+        return f64::NAN;
+    }
+    let grains = sites.iter().filter(|&&s| is_grain(s)).count();
+    if grains == 0 {
+        return f64::NAN;
+    }
+    let enclosed = (0..sites.len())
+        .filter(|&i| {
+            g.kind[i] == SiteKind::Inside
+                && sites[i] == super::model::HOLE
+                && g.nbr[i]
+                    .iter()
+                    .all(|&j| j == OFF || sites[j as usize] != super::model::HOLE)
+        })
+        .count();
+    1000.0 * enclosed as f64 / grains as f64
+}
+
 /// Correlation length of the orientation: the distance at which the excess
 /// g(r) - 1/3 first falls below 1/e of its value at r = 1 (linear
 /// interpolation; `rmax` when it never does; 0 when g(1) <= 1/3).

@@ -265,12 +265,12 @@ pub fn spectrum_chart(path: &Path, spectra: &[(&str, &[f64], LinearFit)]) -> Res
             .iter()
             .map(|&(lf, _)| (lf, fit.intercept + fit.slope * lf))
             .collect();
-        lines.push(Line::new(cap, pts, PALETTE[c]).markers());
+        lines.push(Line::new(cap, pts, PALETTE[c % PALETTE.len()]).markers());
         let label = format!(
             "fit f <= 1/8: slope {:.3} +- {:.3}",
             fit.slope, fit.slope_err
         );
-        lines.push(Line::new(&label, fitted, PALETTE[c]));
+        lines.push(Line::new(&label, fitted, PALETTE[c % PALETTE.len()]));
     }
     line_chart(
         path,

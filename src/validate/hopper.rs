@@ -23,7 +23,7 @@ use crate::hopper::engine::{HopperBuilder, HopperEngine};
 use crate::hopper::geometry::{SiteKind, OFF};
 use crate::hopper::model::{grain, grain_state, is_grain, HOLE, WALL};
 use crate::hopper::observables::orientation_correlation_of;
-use crate::hopper::{Aligned, EnergyParams, HopperParams};
+use crate::hopper::{Aligned, EnergyParams, HopperParams, RestPairs};
 use crate::lattice::{velocity, DOWN_LEFT, DOWN_RIGHT, UP, UP_LEFT, UP_RIGHT};
 use crate::run::{derive_seed, Tier};
 use serde::Serialize;
@@ -94,7 +94,11 @@ fn pair_energy(p: &EnergyParams, si: usize, sn: usize, d: f64) -> f64 {
     let aligned = oi == on
         && match p.aligned {
             Aligned::SameOrientation => true,
-            Aligned::AlongVelocity => (vi != 0 && axis(vi) == oi) || (vn != 0 && axis(vn) == oi),
+            Aligned::AlongVelocity => {
+                (vi != 0 && axis(vi) == oi)
+                    || (vn != 0 && axis(vn) == oi)
+                    || (vi == 0 && vn == 0 && p.rest_pairs == RestPairs::SameOrientation)
+            }
         };
     let orient = if aligned { p.s } else { 1.0 };
     let dil = if d <= 1.0 / (1.0 - p.c) { 1.0 / d } else { 0.2 };
@@ -248,6 +252,7 @@ fn energy_checks(b: &dyn HopperBuilder, ck: &mut Checker, seed: u64) -> Result<(
             beta: 0.5,
             gamma: 1.5,
             aligned: Aligned::AlongVelocity,
+            ..EnergyParams::default()
         },
     ];
     for (vi, p) in variants.iter().enumerate() {
