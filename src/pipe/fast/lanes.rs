@@ -19,27 +19,25 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 /// 2^32: a threshold this large is always met.
 const ALWAYS: u64 = 1 << 32;
 
-/// For each threshold `t[k]` (at most 2^32), the lanes of `need` whose
-/// uniform 32-bit number U is below it; all thresholds are compared with
-/// the same U of each lane (for increasing thresholds the lanes with
+/// For each threshold `t[k]` (at most 2^32), the lanes of `need[k]` whose
+/// uniform 32-bit number U is below it. Each lane has one U for all its
+/// comparisons: for increasing thresholds with the same need, the lanes with
 /// `t[k-1] <= U < t[k]` take outcome k with probability
-/// `(t[k] - t[k-1]) / 2^32`, as `Entry::cumulative` of the reference).
+/// `(t[k] - t[k-1]) / 2^32`, as `Entry::cumulative` of the reference; with
+/// disjoint needs, one draw serves lanes of different thresholds.
 pub fn below_each<const N: usize>(
     rng: &mut Xoshiro256PlusPlus,
     t: [u64; N],
-    need: u64,
+    need: [u64; N],
 ) -> [u64; N] {
     let mut below = [0u64; N];
     // lanes whose U equals t[k] in the bits drawn so far
     let mut open = [0u64; N];
-    if need == 0 {
-        return below;
-    }
     for k in 0..N {
         if t[k] >= ALWAYS {
-            below[k] = need;
+            below[k] = need[k];
         } else if t[k] > 0 {
-            open[k] = need;
+            open[k] = need[k];
         }
     }
     for i in (0..32).rev() {
@@ -92,6 +90,19 @@ pub fn bernoulli(rng: &mut Xoshiro256PlusPlus, t: u64, need: u64) -> u64 {
             return below;
         }
         i -= 1;
+    }
+}
+
+/// Independent events of one probability `t / 2^32` for the lanes of `a`
+/// and of `b`: one draw for both when they have no lane in common (each
+/// lane still gets its own bits), else one each.
+#[inline]
+pub fn bernoulli_pair(rng: &mut Xoshiro256PlusPlus, t: u64, a: u64, b: u64) -> (u64, u64) {
+    if a & b == 0 {
+        let hit = bernoulli(rng, t, a | b);
+        (hit & a, hit & b)
+    } else {
+        (bernoulli(rng, t, a), bernoulli(rng, t, b))
     }
 }
 
@@ -153,11 +164,26 @@ mod tests {
                 let mut a = Xoshiro256PlusPlus::seed_from_u64(t ^ need);
                 let mut b = a.clone();
                 for _ in 0..100 {
-                    assert_eq!(bernoulli(&mut a, t, need), below_each(&mut b, [t], need)[0]);
+                    assert_eq!(
+                        bernoulli(&mut a, t, need),
+                        below_each(&mut b, [t], [need])[0]
+                    );
                     assert_eq!(a, b);
                 }
             }
         }
+    }
+
+    #[test]
+    fn disjoint_needs_share_a_draw_and_overlapping_ones_do_not() {
+        let mut a = Xoshiro256PlusPlus::seed_from_u64(8);
+        let mut b = a.clone();
+        let (x, y) = bernoulli_pair(&mut a, 1 << 31, 0x0f, 0xf0);
+        let r = !b.next_u64();
+        assert_eq!((x, y), (r & 0x0f, r & 0xf0));
+        let (x, y) = bernoulli_pair(&mut a, 1 << 31, 0x0f, 0x3c);
+        assert_eq!((x, y), (!b.next_u64() & 0x0f, !b.next_u64() & 0x3c));
+        assert_eq!(a, b);
     }
 
     #[test]
@@ -168,7 +194,7 @@ mod tests {
         let mut hits = [0u64; 3];
         let mut lone = 0u64;
         for _ in 0..words {
-            let m = below_each(&mut rng, t, u64::MAX);
+            let m = below_each(&mut rng, t, [u64::MAX; 3]);
             for k in 0..3 {
                 hits[k] += m[k].count_ones() as u64;
                 if k > 0 {

@@ -7,41 +7,29 @@ use super::grid::Word;
 use crate::pipe::GravityWording;
 
 /// The lanes of 64 sites that match each collision rule of MODEL.md A3
-/// (each lane matches at most one pattern: "exactly" these channels).
+/// ("exactly" these channels, so the classes are disjoint).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Classes {
-    /// R1 {c, c+3}, no rest particle, c = 1..=3.
-    pub r1: [u64; 3],
-    /// R2 {c, c+2}, no rest particle, c = 1..=6.
-    pub r2: [u64; 6],
-    /// R3 {c, c+2, c+4}, no rest particle, c = 1..=2.
+    /// R1: a head-on pair {c, c+3}, no rest particle.
+    pub r1: u64,
+    /// R2: a pair {c, c+2}, no rest particle.
+    pub r2: u64,
+    /// R3: {1, 3, 5} and {2, 4, 6}, no rest particle.
     pub r3: [u64; 2],
-    /// R4 {0, c, c+3}, c = 1..=3.
-    pub r4: [u64; 3],
-    /// R5 {0, c, c+2}, c = 1..=6.
-    pub r5: [u64; 6],
-}
-
-fn or(masks: &[u64]) -> u64 {
-    masks.iter().fold(0, |a, &m| a | m)
+    /// R4: {0, c, c+3}.
+    pub r4: u64,
+    /// R5: {0, c, c+2}.
+    pub r5: u64,
 }
 
 impl Classes {
-    /// Lanes of R1 (they need a fair choice).
-    pub fn any_r1(&self) -> u64 {
-        or(&self.r1)
-    }
-    /// Lanes of R2 (they need a draw with probability p).
-    pub fn any_r2(&self) -> u64 {
-        or(&self.r2)
-    }
     /// Lanes of R3 (they need the three-way draw).
     pub fn any_r3(&self) -> u64 {
-        or(&self.r3)
+        self.r3[0] | self.r3[1]
     }
     /// Lanes matching any rule.
     pub fn any(&self) -> u64 {
-        self.any_r1() | self.any_r2() | self.any_r3() | or(&self.r4) | or(&self.r5)
+        self.r1 | self.r2 | self.any_r3() | self.r4 | self.r5
     }
 }
 
@@ -55,23 +43,15 @@ fn mover_count(s: &Word) -> [u64; 3] {
     [ones, twos, fours]
 }
 
-/// Head-on pairs {c, c+3}, c = 1..=3 (R1, R4), with the two R1 outcomes
-/// {c+1, c+4} and {c+2, c+5}.
-const HEAD_ON: [[usize; 6]; 3] = [[1, 4, 2, 5, 3, 6], [2, 5, 3, 6, 4, 1], [3, 6, 4, 1, 5, 2]];
-/// Pairs {c, c+2}, c = 1..=6 (R2, R5), with the mover c+1 of the outcome.
-const SKEW: [[usize; 3]; 6] = [
-    [1, 3, 2],
-    [2, 4, 3],
-    [3, 5, 4],
-    [4, 6, 5],
-    [5, 1, 6],
-    [6, 2, 1],
-];
-/// Triples {c, c+2, c+4}, c = 1, 2 (R3), with the pairs {c+j, c+j+3} of
-/// the outcomes j = 0, 1, 2.
-const TRIPLE: [([usize; 3], [[usize; 2]; 3]); 2] = [
-    ([1, 3, 5], [[1, 4], [2, 5], [3, 6]]),
-    ([2, 4, 6], [[2, 5], [3, 6], [4, 1]]),
+/// For each mover channel c = 1..=6 (index c - 1): the channels c-1, c-2
+/// and c+1, and which of the head-on pairs {1, 4}, {2, 5}, {3, 6} holds c.
+const AROUND: [[usize; 4]; 6] = [
+    [6, 5, 2, 0],
+    [1, 6, 3, 1],
+    [2, 1, 4, 2],
+    [3, 2, 5, 0],
+    [4, 3, 6, 1],
+    [5, 4, 1, 2],
 ];
 
 /// Classify 64 sites by the rule of MODEL.md A3 they match.
@@ -80,22 +60,26 @@ pub fn classify(s: &Word) -> Classes {
     let [ones, twos, fours] = mover_count(s);
     let two = !ones & twos & !fours;
     let three = ones & twos & !fours;
-    let rest = s[0];
-    let mut k = Classes::default();
-    for (i, &[a, b, ..]) in HEAD_ON.iter().enumerate() {
-        let pair = s[a] & s[b] & two;
-        k.r1[i] = pair & !rest;
-        k.r4[i] = pair & rest;
+    // with exactly two movers: a head-on pair {c, c+3} or a pair {c, c+2}
+    let head_on = two & ((s[1] & s[4]) | (s[2] & s[5]) | (s[3] & s[6]));
+    let skew = two
+        & ((s[1] & s[3])
+            | (s[2] & s[4])
+            | (s[3] & s[5])
+            | (s[4] & s[6])
+            | (s[5] & s[1])
+            | (s[6] & s[2]));
+    let (rest, none) = (s[0], !s[0]);
+    Classes {
+        r1: head_on & none,
+        r2: skew & none,
+        r3: [
+            three & s[1] & s[3] & s[5] & none,
+            three & s[2] & s[4] & s[6] & none,
+        ],
+        r4: head_on & rest,
+        r5: skew & rest,
     }
-    for (i, &[a, b, _]) in SKEW.iter().enumerate() {
-        let pair = s[a] & s[b] & two;
-        k.r2[i] = pair & !rest;
-        k.r5[i] = pair & rest;
-    }
-    for (i, &([a, b, c], _)) in TRIPLE.iter().enumerate() {
-        k.r3[i] = s[a] & s[b] & s[c] & three & !rest;
-    }
-    k
 }
 
 /// The random decisions of one collision step, as lane masks.
@@ -123,49 +107,43 @@ pub struct Collided {
     pub two_extras: u64,
 }
 
-/// The collision step of MODEL.md A3 on 64 sites of classes `k`.
+/// The collision step of MODEL.md A3 on 64 sites of classes `k`, written
+/// on whole sets of movers: R1 rotates the pair by +60 or +120 degrees
+/// (new c = old c-1 or old c-2); R2 (dissipating) and R5 leave the rest
+/// particle and the mover between the two (new c = old c-1 and old c+1);
+/// R3 leaves the rest particle and the head-on pair of its outcome; R4 the
+/// rest particle alone.
 #[inline]
 pub fn collide(s: &Word, k: &Classes, d: &Decisions) -> Collided {
-    let mut add = [0u64; 7];
-    let mut changed = 0u64;
-    for (i, &[_, _, a, b, c, e]) in HEAD_ON.iter().enumerate() {
-        // R1: {c, c+3} -> {c+1, c+4} or {c+2, c+5}
-        let (plus, twice) = (k.r1[i] & d.r1, k.r1[i] & !d.r1);
-        add[a] |= plus;
-        add[b] |= plus;
-        add[c] |= twice;
-        add[e] |= twice;
-        // R4: {0, c, c+3} -> {0} and two extra rest particles
-        add[0] |= k.r4[i];
-        changed |= k.r1[i] | k.r4[i];
+    let (turn1, turn2) = (k.r1 & d.r1, k.r1 & !d.r1);
+    let middle = (k.r2 & d.r2) | k.r5;
+    // R3 outcome j of {c, c+2, c+4} is the pair {c+j, c+j+3}
+    let mut pairs = [0u64; 3];
+    if k.any_r3() != 0 {
+        let j = [d.r3[0], d.r3[1] & !d.r3[0], d.r3[2] & !d.r3[1]];
+        let [a, b] = k.r3;
+        pairs = [
+            (a & j[0]) | (b & j[2]),
+            (a & j[1]) | (b & j[0]),
+            (a & j[2]) | (b & j[1]),
+        ];
     }
-    for (i, &[_, _, m]) in SKEW.iter().enumerate() {
-        // R2 (dissipating) and R5 have the same outgoing state {0, c+1}
-        let out = (k.r2[i] & d.r2) | k.r5[i];
-        add[0] |= out;
-        add[m] |= out;
-        changed |= out;
-    }
-    for (i, (_, outcomes)) in TRIPLE.iter().enumerate() {
-        // R3: {c, c+2, c+4} -> {0, c+j, c+j+3} for U in [t_{j-1}, t_j)
-        let mut lower = 0u64;
-        for (j, &[a, b]) in outcomes.iter().enumerate() {
-            let out = k.r3[i] & d.r3[j] & !lower;
-            lower |= d.r3[j];
-            add[0] |= out;
-            add[a] |= out;
-            add[b] |= out;
-            changed |= out;
-        }
-    }
+    let r3 = pairs[0] | pairs[1] | pairs[2];
+    let changed = k.r1 | k.r4 | middle | r3;
     let mut state = [0u64; 7];
-    for (c, v) in state.iter_mut().enumerate() {
-        *v = (s[c] & !changed) | add[c];
+    state[0] = s[0] | middle | r3;
+    for (c, &[before, twice_before, after, pair]) in AROUND.iter().enumerate() {
+        let c = c + 1;
+        state[c] = (s[c] & !changed)
+            | (turn1 & s[before])
+            | (turn2 & s[twice_before])
+            | (middle & s[before] & s[after])
+            | pairs[pair];
     }
     Collided {
         state,
-        one_extra: or(&k.r5),
-        two_extras: or(&k.r4),
+        one_extra: k.r5,
+        two_extras: k.r4,
     }
 }
 
@@ -387,21 +365,12 @@ mod tests {
     }
 
     #[test]
-    fn the_pattern_tables_are_the_rotations_of_model_a3() {
+    fn the_neighbour_table_follows_the_rotations_of_model_a1() {
         use crate::lattice::rotate;
-        for (i, row) in HEAD_ON.iter().enumerate() {
+        for (i, row) in AROUND.iter().enumerate() {
             let c = i + 1;
-            assert_eq!(*row, [1, 4, 2, 5, 3, 6].map(|k| rotate(c, k - 1)));
-        }
-        for (i, row) in SKEW.iter().enumerate() {
-            assert_eq!(*row, [0, 2, 1].map(|k| rotate(i + 1, k)));
-        }
-        for (i, (t, outs)) in TRIPLE.iter().enumerate() {
-            let c = i + 1;
-            assert_eq!(*t, [0, 2, 4].map(|k| rotate(c, k)));
-            for (j, o) in outs.iter().enumerate() {
-                assert_eq!(*o, [rotate(c, j), rotate(c, j + 3)]);
-            }
+            assert_eq!(row[..3], [rotate(c, 5), rotate(c, 4), rotate(c, 1)]);
+            assert_eq!(row[3], (c - 1) % 3);
         }
     }
 

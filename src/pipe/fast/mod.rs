@@ -284,10 +284,17 @@ impl FastPipe {
             if k.any() == 0 {
                 continue;
             }
+            // the classes are disjoint: one uniform per lane serves them all
+            let r3 = k.any_r3();
+            let [r1, r2, a, b, c] = lanes::below_each(
+                &mut self.rng,
+                [t.r1, t.r2, t.r3[0], t.r3[1], t.r3[2]],
+                [k.r1, k.r2, r3, r3, r3],
+            );
             let d = Decisions {
-                r1: lanes::bernoulli(&mut self.rng, t.r1, k.any_r1()),
-                r2: lanes::bernoulli(&mut self.rng, t.r2, k.any_r2()),
-                r3: lanes::below_each(&mut self.rng, t.r3, k.any_r3()),
+                r1,
+                r2,
+                r3: [a, b, c],
             };
             let out = logic::collide(s, &k, &d);
             *s = out.state;
@@ -421,11 +428,14 @@ impl FastPipe {
         let (g, wording, slide) = (self.g_t, self.rules.gravity, self.rules.rest_slide);
         for s in self.grid.cells_mut().iter_mut() {
             let m = logic::gravity_moves(s, wording);
+            // 0 -> 4 needs a rest particle, 1 -> 0 its absence: one draw
+            let falls = lanes::bernoulli(&mut self.rng, g, m.fall | m.stop);
+            let (turn2, turn6) = lanes::bernoulli_pair(&mut self.rng, g, m.turn2, m.turn6);
             let made = Moves {
-                fall: lanes::bernoulli(&mut self.rng, g, m.fall),
-                turn2: lanes::bernoulli(&mut self.rng, g, m.turn2),
-                turn6: lanes::bernoulli(&mut self.rng, g, m.turn6),
-                stop: lanes::bernoulli(&mut self.rng, g, m.stop),
+                fall: falls & m.fall,
+                turn2,
+                turn6,
+                stop: falls & m.stop,
             };
             let after = logic::apply_moves(s, &made);
             *s = if slide {
