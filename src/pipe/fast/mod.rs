@@ -138,22 +138,25 @@ impl FastPipe {
         };
         pipe.build_segments();
         if params.boundary == Boundary::Periodic {
-            let t = threshold(params.rho / 6.0);
-            let words = pipe.grid.words();
-            for (i, word) in pipe.grid.cells_mut().iter_mut().enumerate() {
-                let lanes = if (i + 1) % words == 0 {
-                    bit_range(0, l - 64 * (words - 1))
-                } else {
-                    u64::MAX
-                };
-                for plane in &mut word[1..] {
-                    *plane = lanes::bernoulli(&mut pipe.rng, t, lanes);
-                }
-            }
+            pipe.random_start();
         }
         Ok(pipe)
     }
 
+    /// The random start of the periodic pipe (MODEL.md A8): each moving
+    /// channel of each site occupied with probability rho/6.
+    fn random_start(&mut self) {
+        let t = threshold(self.params.rho / 6.0);
+        let words = self.grid.words();
+        for i in 0..self.grid.cells().len() {
+            let lanes = self.grid.lanes(i % words);
+            for plane in &mut self.grid.cells_mut()[i][1..] {
+                *plane = lanes::bernoulli(&mut self.rng, t, lanes);
+            }
+        }
+    }
+
+    /// The rows of each bin (MODEL.md A9) as (bin, word, mask) segments.
     fn build_segments(&mut self) {
         let bin = self.params.bin;
         for i in 0..self.params.bins() {
@@ -298,19 +301,9 @@ impl FastPipe {
             };
             let out = logic::collide(s, &k, &d);
             *s = out.state;
-            let extra = out.one_extra | out.two_extras;
-            if extra != 0 {
+            if out.one_extra | out.two_extras != 0 {
                 let (x, y0) = ((i / words) as u64, 64 * (i % words) as u64);
-                let mut m = extra;
-                while m != 0 {
-                    let j = m.trailing_zeros() as u64;
-                    let site = (y0 + j) * w + x;
-                    self.extras.push(site);
-                    if out.two_extras >> j & 1 == 1 {
-                        self.extras.push(site);
-                    }
-                    m &= m - 1;
-                }
+                push_extras(&mut self.extras, &out, |j| (y0 + j) * w + x);
             }
         }
         if self.extras.is_empty() {
@@ -611,6 +604,20 @@ impl FastPipe {
                     .sum::<u32>()
             })
             .sum()
+    }
+}
+
+/// The sites (by `site` of the lane) of the extra rest particles of one
+/// word (MODEL.md A4), once per particle: two at an R4 lane, one at R5.
+fn push_extras(extras: &mut Vec<u64>, out: &logic::Collided, site: impl Fn(u64) -> u64) {
+    let mut m = out.one_extra | out.two_extras;
+    while m != 0 {
+        let j = m.trailing_zeros() as u64;
+        extras.push(site(j));
+        if out.two_extras >> j & 1 == 1 {
+            extras.push(site(j));
+        }
+        m &= m - 1;
     }
 }
 
