@@ -14,7 +14,7 @@ use std::path::PathBuf;
 #[derive(Debug, Parser)]
 #[command(about = "Validate an implementation of the pipe automaton against the reference engine")]
 struct Args {
-    /// reference | mutant:NAME | cmd:'COMMAND' (external program, VALIDATION.md).
+    /// reference | fast | mutant:NAME | cmd:'COMMAND' (external program, VALIDATION.md).
     #[arg(long, default_value = "reference")]
     candidate: String,
     /// 1 (rule conformance), 2 (scenes) or all.

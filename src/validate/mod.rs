@@ -65,7 +65,8 @@ impl Model {
     }
 }
 
-/// The candidate named by `spec`: `reference`, `mutant:NAME` or `cmd:COMMAND`.
+/// The candidate named by `spec`: `reference`, `fast` (the bit-sliced
+/// engine, `crate::pipe::fast`), `mutant:NAME` or `cmd:COMMAND`.
 pub fn candidate_from(spec: &str) -> Result<Box<dyn Candidate>> {
     if spec == "reference" {
         return Ok(Box::new(Builtin(Reference)));
