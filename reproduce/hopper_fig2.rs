@@ -1,5 +1,7 @@
 //! BB90 Fig. 2: the hopper filling (b) and emptying with beta = 0 (a) and
-//! beta = 1 (c-f), for both readings of "aligned" (MODEL.md B4, B6).
+//! beta = 1 (c-f), for both readings of "aligned" (MODEL.md B4, B6): the
+//! default same-orientation reading first (`beta1_same`), the literal
+//! along-velocity reading (`beta1_along`) as the comparison.
 //!
 //! `cargo run --release --bin hopper-fig2 -- --tier quick`
 
@@ -21,8 +23,10 @@ struct Args {
     #[command(flatten)]
     common: Common,
     /// Comma-separated cases (readings) to run, from `Case::ALL` (e.g.
-    /// `beta0,beta1_rest,beta1_same_narrow`); each gets every check.
-    #[arg(long, default_value = "beta0,beta1_along,beta1_same")]
+    /// `beta0,beta1_rest,beta1_same_narrow`); each gets every check. A
+    /// beta = 0 case comes first (its run 0 is the left panel of every
+    /// picture); the default's first beta = 1 case is the default reading.
+    #[arg(long, default_value = "beta0,beta1_same,beta1_along")]
     cases: String,
 }
 

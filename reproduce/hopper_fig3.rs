@@ -1,7 +1,8 @@
 //! BB90 Fig. 3: grains leaving the hopper per iteration over 6144 iterations
 //! after opening, raw and averaged over 5 and 11 iterations, and the power
 //! spectrum of the outflow (white noise); with orientation on (beta = 1, both
-//! readings of "aligned") and off (beta = 0) (MODEL.md B6).
+//! readings of "aligned": the default same-orientation first, the literal
+//! along-velocity as the comparison) and off (beta = 0) (MODEL.md B4, B6).
 //!
 //! `cargo run --release --bin hopper-fig3 -- --tier quick`
 
@@ -28,8 +29,9 @@ struct Args {
     #[command(flatten)]
     common: Common,
     /// Comma-separated cases (readings) to run, from `Case::ALL`; the rate
-    /// of each beta = 1 case is compared with the first beta = 0 case.
-    #[arg(long, default_value = "beta1_along,beta1_same,beta0")]
+    /// of each beta = 1 case is compared with the first beta = 0 case. The
+    /// default's first case is the default reading.
+    #[arg(long, default_value = "beta1_same,beta1_along,beta0")]
     cases: String,
 }
 

@@ -558,9 +558,13 @@ mod hopper {
         let width = HopperParams::quick().geometry.width;
         let base = granular_automata::hopper::geometry::max_outlet_width(width);
         assert_eq!(base, 97);
-        for outlet in [1, base] {
+        // both readings of "aligned" named (the default moved from
+        // along-velocity to same-orientation; notes/hopper-default-switch.md)
+        let readings = [Aligned::AlongVelocity, Aligned::SameOrientation];
+        for (outlet, aligned) in [1, base].into_iter().flat_map(|o| readings.map(|a| (o, a))) {
             let mut p = HopperParams::quick();
             p.geometry.outlet_width = outlet;
+            p.energy.aligned = aligned;
             let mut h = Hopper::new(p, SEED).unwrap();
             let mut most = 0;
             for it in 0..1200 {
@@ -569,15 +573,18 @@ mod hopper {
                 }
                 let r = h.step(it < 400);
                 most = most.max(r.outflow as usize);
-                assert!(r.outflow as usize <= outlet, "outlet {outlet}: {r:?}");
+                assert!(
+                    r.outflow as usize <= outlet,
+                    "outlet {outlet}, {aligned:?}: {r:?}"
+                );
                 assert_eq!(h.count_grains() + h.removed(), h.added(), "iteration {it}");
             }
             println!(
-                "outlet {outlet}: added {}, removed {}, at most {most} per iteration",
+                "outlet {outlet}, {aligned:?}: added {}, removed {}, at most {most} per iteration",
                 h.added(),
                 h.removed()
             );
-            assert!(h.added() > 500, "the hopper fills");
+            assert!(h.added() > 500, "{aligned:?}: the hopper fills");
         }
         let mut p = HopperParams::quick();
         p.geometry.outlet_width = base + 1;
@@ -685,8 +692,12 @@ mod golden {
 
     #[test]
     fn golden_hopper_readings() {
+        // each reading named explicitly, not left to the default (which
+        // moved from along-velocity to same-orientation; at beta = 0 the
+        // reading plays no part in the energy, only in the header line)
         let mut beta0 = HopperParams::quick();
         beta0.energy.beta = 0.0;
+        beta0.energy.aligned = Aligned::AlongVelocity;
         let mut same = HopperParams::quick();
         same.energy.aligned = Aligned::SameOrientation;
         snapshot("hopper_readings", hopper_text(beta0) + &hopper_text(same));

@@ -324,12 +324,13 @@ pub struct Case {
 }
 
 impl Case {
-    /// Orientation off (beta = 0).
+    /// Orientation off (beta = 0); the reading of "aligned" is the default
+    /// one, though at beta = 0 no reading enters the energy.
     pub const BETA0: Case = Case {
         key: "beta0",
         caption: "beta = 0",
         beta: 0.0,
-        aligned: Aligned::AlongVelocity,
+        aligned: Aligned::DEFAULT,
         rest_pairs: RestPairs::NotAligned,
         rain_scale: 1.0,
         dynamics: Dynamics {
@@ -337,14 +338,17 @@ impl Case {
             conflict: ConflictRule::KeepOrientation,
         },
     };
-    /// Orientation on (beta = 1), "aligned" read literally: along the velocity.
+    /// Orientation on (beta = 1), "aligned" read literally: along the velocity
+    /// (a named variant; the default reading is [`Case::BETA1_SAME`]).
     pub const BETA1_ALONG: Case = Case {
         key: "beta1_along",
         caption: "beta = 1, aligned = along-velocity",
         beta: 1.0,
+        aligned: Aligned::AlongVelocity,
         ..Case::BETA0
     };
-    /// Orientation on (beta = 1), "aligned" read as the same orientation.
+    /// Orientation on (beta = 1), "aligned" read as the same orientation: the
+    /// library default (`HopperParams::default()`, HOPPER_READINGS.md Part 3).
     pub const BETA1_SAME: Case = Case {
         key: "beta1_same",
         caption: "beta = 1, aligned = same-orientation",

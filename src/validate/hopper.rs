@@ -238,11 +238,17 @@ fn probe_params(energy: EnergyParams) -> HopperParams {
 }
 
 fn energy_checks(b: &dyn HopperBuilder, ck: &mut Checker, seed: u64) -> Result<()> {
+    // the default reading (whatever `EnergyParams::default` holds), the
+    // other reading of "aligned" named explicitly, and other parameters
+    let default = EnergyParams::default();
     let variants = [
-        EnergyParams::default(),
+        default,
         EnergyParams {
-            aligned: Aligned::SameOrientation,
-            ..EnergyParams::default()
+            aligned: match default.aligned {
+                Aligned::SameOrientation => Aligned::AlongVelocity,
+                Aligned::AlongVelocity => Aligned::SameOrientation,
+            },
+            ..default
         },
         EnergyParams {
             delta: 2.0,
@@ -586,7 +592,8 @@ pub struct HopperScene {
 }
 
 /// The hopper scenes at `tier`: BB90 Fig. 2 at beta = 0 and beta = 1
-/// (literal "aligned") in the quick-tier container of MODEL.md B2 (100 x 75
+/// (the default reading of "aligned", `EnergyParams::default`: same
+/// orientation) in the quick-tier container of MODEL.md B2 (100 x 75
 /// sites), filled to 70%; 300 iterations of outflow recorded (standard and
 /// paper: 600).
 pub fn hopper_scenes(tier: Tier) -> Vec<HopperScene> {
@@ -735,13 +742,27 @@ mod tests {
 
     #[test]
     fn pair_energy_is_the_formula_of_b4() {
-        let p = EnergyParams::default();
+        let literal = EnergyParams {
+            aligned: Aligned::AlongVelocity,
+            ..EnergyParams::default()
+        };
         // a vertical grain falling next to a resting vertical grain, d = 1:
         // aligned along its velocity, 1.1^3 * 0.01
-        let e = pair_energy(&p, state(0, 4), state(0, 0), 1.0);
+        let e = pair_energy(&literal, state(0, 4), state(0, 0), 1.0);
         assert!(close(e, 1.1f64.powi(3) * 0.01));
         // dilated pair: F_dilation = 0.2
-        let e = pair_energy(&p, state(1, 0), state(2, 0), 1.3);
+        let e = pair_energy(&literal, state(1, 0), state(2, 0), 1.3);
         assert!(close(e, 0.1f64.powi(3) * 0.04));
+        // two resting vertical grains, d = 1: not aligned in the literal
+        // reading (no velocity), aligned in the default (same orientation)
+        let e = pair_energy(&literal, state(0, 0), state(0, 0), 1.0);
+        assert!(close(e, 0.1f64.powi(3)));
+        let p = EnergyParams::default();
+        assert_eq!(p.aligned, Aligned::SameOrientation);
+        let e = pair_energy(&p, state(0, 0), state(0, 0), 1.0);
+        assert!(close(e, 0.1f64.powi(3) * 0.01));
+        // the falling grain of the first case: aligned in both readings
+        let e = pair_energy(&p, state(0, 4), state(0, 0), 1.0);
+        assert!(close(e, 1.1f64.powi(3) * 0.01));
     }
 }
