@@ -25,6 +25,7 @@ pub mod observables;
 pub mod open;
 pub mod overlap;
 pub mod record;
+pub mod relocation;
 pub mod rules;
 
 pub use rules::{GravityWording, RestPlacement, Rules};
@@ -183,6 +184,21 @@ pub struct Flux {
     pub out_bottom: u64,
     /// Particles that left above row L-1.
     pub out_top: u64,
+}
+
+/// The reference's site bytes as the rest channels relocation fills.
+struct RestView<'a> {
+    cells: &'a mut [u8],
+    stride: usize,
+}
+
+impl relocation::RestChannels for RestView<'_> {
+    fn has_rest(&self, x: usize, y: usize) -> bool {
+        self.cells[(x + 1) * self.stride + y + 1] & REST_BIT != 0
+    }
+    fn put_rest(&mut self, x: usize, y: usize) {
+        self.cells[(x + 1) * self.stride + y + 1] |= REST_BIT;
+    }
 }
 
 /// Gravity moves (from channel, to channel) possible in one state.
@@ -489,10 +505,6 @@ impl<D: Draws> Pipe<D> {
         }
     }
 
-    fn coords(&self, i: usize) -> (usize, usize) {
-        (i / self.stride - 1, i % self.stride - 1)
-    }
-
     /// Number of rest particles on the lattice (not counting extras).
     pub fn rest_count(&self) -> u64 {
         (0..self.params.width)
@@ -505,105 +517,30 @@ impl<D: Draws> Pipe<D> {
             .sum()
     }
 
-    /// Relocation of extra rest particles (A4): sites in row-major order
-    /// (row by row from the bottom, left to right), one particle at a time.
+    /// Relocation of extra rest particles (A4), by the rule shared with the
+    /// fast engine ([`relocation::relocate`]).
     fn relocate(&mut self) -> Result<()> {
-        let sites = self.params.sites() as u64;
-        let total = self.rest_count() + self.extras.len() as u64;
-        if total > sites {
-            let p = &self.params;
-            return Err(Error::new(
-                ErrorKind::RestExceedsSites,
-                format!(
-                    "at step {}: {} rest particles for {} sites (rho = {}, p = {}, g = {}, b = {}, W = {}, L = {}); \
-                     the model is undefined here [PH95 G]: lower rho or p",
-                    self.time, total, sites, p.rho, p.p, p.g, p.b, p.width, p.length
-                ),
-            ));
-        }
-        let mut extras = std::mem::take(&mut self.extras);
-        let w = self.params.width;
+        let rest_now = self.rest_count();
         let stride = self.stride;
-        extras.sort_by_key(|&i| {
-            let (x, y) = (i as usize / stride - 1, i as usize % stride - 1);
-            y * w + x
-        });
-        for &i in &extras {
-            let (x, y) = self.coords(i as usize);
-            let placed = match self.rules.rest {
-                RestPlacement::RestUp => self.place_above(x, y),
-                RestPlacement::RandomWalk => false,
-            };
-            if !placed {
-                self.random_walk(x, y)?;
-            }
-        }
-        self.extras = extras;
-        Ok(())
-    }
-
-    /// `rest-up`: the nearest site above in the column with an empty rest channel.
-    fn place_above(&mut self, x: usize, y: usize) -> bool {
-        let l = self.params.length;
-        let periodic = self.params.boundary == Boundary::Periodic;
-        for d in 1..l {
-            let mut ny = y + d;
-            if ny >= l {
-                if !periodic {
-                    return false;
-                }
-                ny -= l;
-            }
-            let i = self.idx(x, ny);
-            if self.cells[i] & REST_BIT == 0 {
-                self.cells[i] |= REST_BIT;
-                return true;
-            }
-        }
-        false
-    }
-
-    /// Random walk over neighbouring sites (walls and rows outside the open
-    /// pipe excluded) until a site with an empty rest channel is reached.
-    fn random_walk(&mut self, mut x: usize, mut y: usize) -> Result<()> {
-        let (w, l) = (self.params.width as i64, self.params.length as i64);
-        let periodic = self.params.boundary == Boundary::Periodic;
-        let bound = 1000 * self.params.sites() as u64 + 1_000_000;
-        for _ in 0..bound {
-            let mut cand = [(0usize, 0usize); 6];
-            let mut n = 0;
-            for c in 1..=6 {
-                let (nx, mut ny) = neighbour(x, y, c);
-                if nx < 0 || nx >= w {
-                    continue;
-                }
-                if periodic {
-                    ny = ny.rem_euclid(l);
-                } else if ny < 0 || ny >= l {
-                    continue;
-                }
-                cand[n] = (nx as usize, ny as usize);
-                n += 1;
-            }
-            if n == 0 {
-                break;
-            }
-            let k = self.rng.below(n as u32) as usize;
-            (x, y) = cand[k];
-            let i = self.idx(x, y);
-            if self.cells[i] & REST_BIT == 0 {
-                self.cells[i] |= REST_BIT;
-                return Ok(());
-            }
-        }
-        Err(Error::new(
-            ErrorKind::RelocationStuck,
-            format!(
-                "at step {}: an extra rest particle found no empty rest channel within {bound} hops \
-                 (W = {}, L = {}, rho = {}, p = {}); the lattice is (nearly) full of rest particles: lower rho or p",
-                self.time, self.params.width, self.params.length, self.params.rho, self.params.p
-            ),
-        ))
+        let mut extras: Vec<(usize, usize)> = self
+            .extras
+            .iter()
+            .map(|&i| (i as usize / stride - 1, i as usize % stride - 1))
+            .collect();
+        let mut view = RestView {
+            cells: &mut self.cells,
+            stride,
+        };
+        let rng = &mut self.rng;
+        relocation::relocate(
+            &mut view,
+            &mut |n| rng.below(n),
+            &self.params,
+            self.rules,
+            &mut extras,
+            rest_now,
+            self.time,
+        )
     }
 
     /// Gravity step (A5) at every site, with the moves tabulated per state.

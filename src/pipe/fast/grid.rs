@@ -208,6 +208,15 @@ pub fn site_totals(w: &Word) -> [u64; 3] {
     [ones, twos, fours]
 }
 
+impl crate::pipe::relocation::RestChannels for Grid {
+    fn has_rest(&self, x: usize, y: usize) -> bool {
+        self.get(x, y, 0)
+    }
+    fn put_rest(&mut self, x: usize, y: usize) {
+        self.set(x, y, 0);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

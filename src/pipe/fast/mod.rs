@@ -29,8 +29,9 @@ pub mod logic;
 
 use super::collision::{bit, threshold, CollisionTable, Entry};
 use super::engine::{EngineBuilder, PipeEngine};
-use super::{Boundary, Flux, Params, RestPlacement, Rules};
-use crate::error::{check_unit, Error, ErrorKind, Result};
+use super::relocation;
+use super::{Boundary, Flux, Params, Rules};
+use crate::error::{check_unit, Result};
 use crate::lattice::neighbour;
 use grid::{bit_range, site_totals, Grid, Word};
 use logic::{Decisions, Moves};
@@ -313,102 +314,26 @@ impl FastPipe {
         }
     }
 
-    /// Relocation of the extra rest particles (MODEL.md A4), as the
-    /// reference: the validity check first, then the sites in row-major
-    /// order (row by row from the bottom, left to right), one particle at a
-    /// time, by `rest-up` or the random walk.
+    /// Relocation of the extra rest particles (MODEL.md A4), by the rule the
+    /// reference uses ([`relocation::relocate`]).
     fn relocate(&mut self) -> Result<()> {
-        let sites = self.params.sites() as u64;
-        let total = self.rest_count() + self.extras.len() as u64;
-        if total > sites {
-            let p = &self.params;
-            return Err(Error::new(
-                ErrorKind::RestExceedsSites,
-                format!(
-                    "at step {}: {} rest particles for {} sites (rho = {}, p = {}, g = {}, b = {}, W = {}, L = {}); \
-                     the model is undefined here [PH95 G]: lower rho or p",
-                    self.time, total, sites, p.rho, p.p, p.g, p.b, p.width, p.length
-                ),
-            ));
-        }
-        let mut extras = std::mem::take(&mut self.extras);
-        extras.sort_unstable();
+        let rest_now = self.rest_count();
         let w = self.params.width as u64;
-        for &site in &extras {
-            let (x, y) = ((site % w) as usize, (site / w) as usize);
-            let placed = match self.rules.rest {
-                RestPlacement::RestUp => self.place_above(x, y),
-                RestPlacement::RandomWalk => false,
-            };
-            if !placed {
-                self.random_walk(x, y)?;
-            }
-        }
-        self.extras = extras;
-        Ok(())
-    }
-
-    /// `rest-up` (MODEL.md A4): the nearest site above in the column with an
-    /// empty rest channel (wrapping in the periodic pipe).
-    fn place_above(&mut self, x: usize, y: usize) -> bool {
-        let l = self.params.length;
-        let periodic = self.params.boundary == Boundary::Periodic;
-        for d in 1..l {
-            let mut ny = y + d;
-            if ny >= l {
-                if !periodic {
-                    return false;
-                }
-                ny -= l;
-            }
-            if !self.grid.get(x, ny, 0) {
-                self.grid.set(x, ny, 0);
-                return true;
-            }
-        }
-        false
-    }
-
-    /// The random walk of MODEL.md A4: hops to a uniformly chosen
-    /// neighbour (walls, and rows beyond the open ends, excluded) until a
-    /// site with an empty rest channel is reached; bounded as the reference.
-    fn random_walk(&mut self, mut x: usize, mut y: usize) -> Result<()> {
-        let (w, l) = (self.params.width as i64, self.params.length as i64);
-        let periodic = self.params.boundary == Boundary::Periodic;
-        let bound = 1000 * self.params.sites() as u64 + 1_000_000;
-        for _ in 0..bound {
-            let mut cand = [(0usize, 0usize); 6];
-            let mut n = 0;
-            for c in 1..=6 {
-                let (nx, mut ny) = neighbour(x, y, c);
-                if nx < 0 || nx >= w {
-                    continue;
-                }
-                if periodic {
-                    ny = ny.rem_euclid(l);
-                } else if ny < 0 || ny >= l {
-                    continue;
-                }
-                cand[n] = (nx as usize, ny as usize);
-                n += 1;
-            }
-            if n == 0 {
-                break;
-            }
-            (x, y) = cand[lanes::below(&mut self.rng, n as u32) as usize];
-            if !self.grid.get(x, y, 0) {
-                self.grid.set(x, y, 0);
-                return Ok(());
-            }
-        }
-        Err(Error::new(
-            ErrorKind::RelocationStuck,
-            format!(
-                "at step {}: an extra rest particle found no empty rest channel within {bound} hops \
-                 (W = {}, L = {}, rho = {}, p = {}); the lattice is (nearly) full of rest particles: lower rho or p",
-                self.time, self.params.width, self.params.length, self.params.rho, self.params.p
-            ),
-        ))
+        let mut extras: Vec<(usize, usize)> = self
+            .extras
+            .iter()
+            .map(|&site| ((site % w) as usize, (site / w) as usize))
+            .collect();
+        let rng = &mut self.rng;
+        relocation::relocate(
+            &mut self.grid,
+            &mut |n| lanes::below(rng, n),
+            &self.params,
+            self.rules,
+            &mut extras,
+            rest_now,
+            self.time,
+        )
     }
 
     /// Gravity step (MODEL.md A5): the moves possible before gravity, each

@@ -1,0 +1,133 @@
+//! Relocation of the extra rest particles of R4 and R5 (MODEL.md A4), one
+//! function for both engines: the reference ([`super::Pipe`]) and the fast
+//! engine ([`super::fast::FastPipe`]) differ in how they store the rest
+//! channels ([`RestChannels`]) and draw their random numbers, not in the rule.
+
+use super::{Boundary, Params, RestPlacement, Rules};
+use crate::error::{Error, ErrorKind, Result};
+use crate::lattice::neighbour;
+
+/// The rest channels of a lattice, as relocation reads and fills them.
+pub trait RestChannels {
+    /// Whether site (x, y) holds a rest particle.
+    fn has_rest(&self, x: usize, y: usize) -> bool;
+    /// Put a rest particle on site (x, y) (its rest channel is empty).
+    fn put_rest(&mut self, x: usize, y: usize);
+}
+
+/// Place the extra rest particles created at `extras` (sites (x, y), one
+/// entry per particle; reordered here) when the lattice already holds
+/// `rest_now` rest particles, at step `time` (for the error messages).
+///
+/// First the validity check: more rest particles than sites make the model
+/// undefined (`RestExceedsSites`). Then the sites in row-major order (row by
+/// row from the bottom, left to right), one particle at a time: `rest-up`
+/// (the nearest free site above in the column), else the random walk over
+/// neighbouring sites, each hop to one of the `n` valid neighbours chosen by
+/// `below(n)` (uniform in 0..n), until a free rest channel is found; a walk
+/// longer than 1000 W L + 10^6 hops is `RelocationStuck`.
+#[allow(clippy::too_many_arguments)] // the lattice, its run and its draws
+pub fn relocate(
+    lattice: &mut impl RestChannels,
+    below: &mut impl FnMut(u32) -> u32,
+    params: &Params,
+    rules: Rules,
+    extras: &mut [(usize, usize)],
+    rest_now: u64,
+    time: u64,
+) -> Result<()> {
+    let sites = params.sites() as u64;
+    let total = rest_now + extras.len() as u64;
+    if total > sites {
+        let p = params;
+        return Err(Error::new(
+            ErrorKind::RestExceedsSites,
+            format!(
+                "at step {time}: {total} rest particles for {sites} sites (rho = {}, p = {}, g = {}, b = {}, W = {}, L = {}); \
+                 the model is undefined here [PH95 G]: lower rho or p",
+                p.rho, p.p, p.g, p.b, p.width, p.length
+            ),
+        ));
+    }
+    extras.sort_unstable_by_key(|&(x, y)| (y, x));
+    for &(x, y) in extras.iter() {
+        let placed = match rules.rest {
+            RestPlacement::RestUp => place_above(lattice, params, x, y),
+            RestPlacement::RandomWalk => false,
+        };
+        if !placed {
+            random_walk(lattice, below, params, x, y, time)?;
+        }
+    }
+    Ok(())
+}
+
+/// `rest-up`: the nearest site above (x, y) in its column with an empty rest
+/// channel, wrapping in the periodic pipe; false if there is none.
+fn place_above(lattice: &mut impl RestChannels, params: &Params, x: usize, y: usize) -> bool {
+    let l = params.length;
+    let periodic = params.boundary == Boundary::Periodic;
+    for d in 1..l {
+        let mut ny = y + d;
+        if ny >= l {
+            if !periodic {
+                return false;
+            }
+            ny -= l;
+        }
+        if !lattice.has_rest(x, ny) {
+            lattice.put_rest(x, ny);
+            return true;
+        }
+    }
+    false
+}
+
+/// The random walk from (x, y) over neighbouring sites (walls, and rows
+/// beyond the open ends, excluded) until a site with an empty rest channel
+/// is reached.
+fn random_walk(
+    lattice: &mut impl RestChannels,
+    below: &mut impl FnMut(u32) -> u32,
+    params: &Params,
+    mut x: usize,
+    mut y: usize,
+    time: u64,
+) -> Result<()> {
+    let (w, l) = (params.width as i64, params.length as i64);
+    let periodic = params.boundary == Boundary::Periodic;
+    let bound = 1000 * params.sites() as u64 + 1_000_000;
+    for _ in 0..bound {
+        let mut cand = [(0usize, 0usize); 6];
+        let mut n = 0;
+        for c in 1..=6 {
+            let (nx, mut ny) = neighbour(x, y, c);
+            if nx < 0 || nx >= w {
+                continue;
+            }
+            if periodic {
+                ny = ny.rem_euclid(l);
+            } else if ny < 0 || ny >= l {
+                continue;
+            }
+            cand[n] = (nx as usize, ny as usize);
+            n += 1;
+        }
+        if n == 0 {
+            break;
+        }
+        (x, y) = cand[below(n as u32) as usize];
+        if !lattice.has_rest(x, y) {
+            lattice.put_rest(x, y);
+            return Ok(());
+        }
+    }
+    Err(Error::new(
+        ErrorKind::RelocationStuck,
+        format!(
+            "at step {time}: an extra rest particle found no empty rest channel within {bound} hops \
+             (W = {}, L = {}, rho = {}, p = {}); the lattice is (nearly) full of rest particles: lower rho or p",
+            params.width, params.length, params.rho, params.p
+        ),
+    ))
+}
