@@ -27,24 +27,32 @@ fn report(dir: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(&text).expect("report parses")
 }
 
-#[test]
-fn the_reference_passes_both_levels() {
-    let dir = out("reference");
+/// Run `validate` with `args` into the fresh folder `out(tag)`, assert that
+/// it exits successfully, and return its report.json.
+fn passing(tag: &str, args: &[&str]) -> (PathBuf, serde_json::Value) {
+    let dir = out(tag);
     let status = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args([
-            "--candidate",
-            "reference",
-            "--level",
-            "all",
-            "--tier",
-            "quick",
-        ])
+        .args(args)
         .arg("--out")
         .arg(&dir)
         .status()
         .unwrap();
-    assert!(status.success());
+    assert!(status.success(), "validate {args:?}");
     let r = report(&dir);
+    (dir, r)
+}
+
+#[test]
+fn the_reference_passes_both_levels() {
+    let args = [
+        "--candidate",
+        "reference",
+        "--level",
+        "all",
+        "--tier",
+        "quick",
+    ];
+    let (dir, r) = passing("reference", &args);
     assert_eq!(r["pass"], true);
     assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
     assert_eq!(r["hopper"]["status"], "PASS");
@@ -57,24 +65,17 @@ fn the_reference_passes_both_levels() {
 /// tables) and level 2 (the scenes) at the quick tier: about 20 s.
 #[test]
 fn the_fast_engine_passes_both_pipe_levels() {
-    let dir = out("fast");
-    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args([
-            "--candidate",
-            "fast",
-            "--level",
-            "all",
-            "--tier",
-            "quick",
-            "--model",
-            "pipe",
-        ])
-        .arg("--out")
-        .arg(&dir)
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let r = report(&dir);
+    let args = [
+        "--candidate",
+        "fast",
+        "--level",
+        "all",
+        "--tier",
+        "quick",
+        "--model",
+        "pipe",
+    ];
+    let (_, r) = passing("fast", &args);
     assert_eq!(r["pass"], true);
     assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
 }
@@ -86,26 +87,19 @@ fn the_fast_engine_passes_both_pipe_levels() {
 /// differences in 7445 tests, session 6.)
 #[test]
 fn the_reference_passes_level_1_when_collisions_come_before_gravity() {
-    let dir = out("reference-ph94");
-    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args([
-            "--candidate",
-            "reference",
-            "--level",
-            "1",
-            "--tier",
-            "quick",
-            "--model",
-            "pipe",
-            "--rules",
-            "ph94",
-        ])
-        .arg("--out")
-        .arg(&dir)
-        .status()
-        .unwrap();
-    assert!(status.success());
-    assert_eq!(report(&dir)["pass"], true);
+    let args = [
+        "--candidate",
+        "reference",
+        "--level",
+        "1",
+        "--tier",
+        "quick",
+        "--model",
+        "pipe",
+        "--rules",
+        "ph94",
+    ];
+    assert_eq!(passing("reference-ph94", &args).1["pass"], true);
 }
 
 #[test]
