@@ -232,17 +232,20 @@ mod tests {
             boundary: Boundary::Open { inject: 0.2 },
             ..Params::default()
         };
-        let rec = open_run(
-            params,
-            Rules::default(),
-            Engine::Reference,
-            3,
-            2000,
-            10,
-            true,
-            &|_| {},
-        )
-        .unwrap();
+        // 2000 steps from empty, sampled every 10, with the bins
+        let run = |p| {
+            open_run(
+                p,
+                Rules::default(),
+                Engine::Reference,
+                3,
+                2000,
+                10,
+                true,
+                &|_| {},
+            )
+        };
+        let rec = run(params).unwrap();
         assert_eq!(rec.bookkeeping_errors, 0);
         assert!(rec.stopped.is_none());
         assert!(rec.injected > 0 && rec.out_bottom > 0);
@@ -266,17 +269,7 @@ mod tests {
             boundary: Boundary::Open { inject: 0.5 },
             ..params
         };
-        let rec = open_run(
-            clog,
-            Rules::default(),
-            Engine::Reference,
-            3,
-            2000,
-            10,
-            true,
-            &|_| {},
-        )
-        .unwrap();
+        let rec = run(clog).unwrap();
         assert!(rec.stopped.is_some() && rec.bookkeeping_errors == 0);
         assert!(open_run(
             Params::default(),
