@@ -63,6 +63,7 @@ pub mod pipe;
 pub mod plot;
 pub mod report;
 pub mod run;
+pub mod speed;
 pub mod validate;
 
 pub use error::{Error, ErrorKind, Result};

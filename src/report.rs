@@ -25,7 +25,7 @@ use std::time::Instant;
 const CARGO_TOML: &str = include_str!("../Cargo.toml");
 
 /// Binaries that are not figures (no `summary.json`): never run.
-const NOT_FIGURES: [&str; 4] = ["bench", "explore", "merge", "report"];
+const NOT_FIGURES: [&str; 5] = ["bench", "explore", "merge", "report", "speed-accuracy"];
 
 /// Figures run only when named with `--only` (the rule-reading matrix:
 /// about half an hour of CPU at the quick tier).

@@ -613,8 +613,19 @@ impl Output {
     pub fn finish(&self, summary: &Summary) -> Result<PathBuf> {
         let path = self.path("summary.json");
         let summary = &summary.without_missing_metrics();
-        let text = serde_json::to_string_pretty(summary)
-            .map_err(|e| Error::new(ErrorKind::Io, format!("cannot serialise summary: {e}")))?;
+        let serialise = |e: serde_json::Error| {
+            Error::new(ErrorKind::Io, format!("cannot serialise summary: {e}"))
+        };
+        let mut value = serde_json::to_value(summary).map_err(serialise)?;
+        if let serde_json::Value::Object(fields) = &mut value {
+            // CPU time of this invocation, all threads (like wall_seconds,
+            // runs resumed from saved files cost nothing here); left out
+            // when the system cannot tell it
+            if let Some(cpu) = cpu_seconds() {
+                fields.insert("cpu_seconds".into(), cpu.into());
+            }
+        }
+        let text = serde_json::to_string_pretty(&value).map_err(serialise)?;
         write_atomic(&path, text.as_bytes())?;
         println!("wrote {}", self.dir.display());
         for (k, v) in &summary.metrics {
@@ -628,6 +639,15 @@ impl Output {
         }
         Ok(path)
     }
+}
+
+/// CPU seconds this process has used so far, all threads together (the
+/// `cpu_seconds` of summary.json; read by the `speed-accuracy` binary);
+/// `None` where the system does not report it.
+pub fn cpu_seconds() -> Option<f64> {
+    cpu_time::ProcessTime::try_now()
+        .ok()
+        .map(|t| t.as_duration().as_secs_f64())
 }
 
 /// Write a file via a temporary name and a rename, so a crash never leaves a
