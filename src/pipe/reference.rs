@@ -90,6 +90,46 @@ pub(super) fn gravity_table(wording: GravityWording) -> [Moves; 128] {
     t
 }
 
+/// The state a blocked rest particle slides from with `rest-slide` (A5):
+/// a rest particle and an occupied channel 4.
+const SLIDE_FROM: u8 = REST_BIT | bit(4);
+
+/// One wall of the pipe (A6): its column, the two channels heading into it,
+/// and for each of them the bounce-back and the specular (mirrored) channel.
+struct Wall {
+    x: usize,
+    into: [usize; 2],
+    bounce: [usize; 2],
+    specular: [usize; 2],
+}
+
+impl Wall {
+    /// The channels heading into the wall, as a mask.
+    fn heading_in(&self) -> u8 {
+        bit(self.into[0]) | bit(self.into[1])
+    }
+}
+
+/// The left wall (column 0) and the right wall (column W-1) of A6: left
+/// 2 -> 5 or 6, 3 -> 6 or 5; right 6 -> 3 or 2, 5 -> 2 or 3 (bounce-back or
+/// specular).
+fn walls(w: usize) -> [Wall; 2] {
+    [
+        Wall {
+            x: 0,
+            into: [2, 3],
+            bounce: [5, 6],
+            specular: [6, 5],
+        },
+        Wall {
+            x: w - 1,
+            into: [6, 5],
+            bounce: [3, 2],
+            specular: [2, 3],
+        },
+    ]
+}
+
 impl Pipe {
     /// A new run: validates `params`, builds the rule tables for `rules`, and
     /// draws the initial state (A8) from `seed`. The open pipe starts empty.
@@ -290,6 +330,10 @@ impl<D: Draws> Pipe<D> {
         Ok(())
     }
 
+    // The sub-steps of one step, in the order of MODEL.md A2.
+
+    /// Injection (A7, \[PH95 III I\]): each empty channel 3, 4, 5 of the top
+    /// row is filled with probability I, site by site from the left.
     fn inject(&mut self) {
         let y = self.params.length - 1;
         for x in 0..self.params.width {
@@ -303,7 +347,8 @@ impl<D: Draws> Pipe<D> {
         }
     }
 
-    /// Collision step (A3) at every site, then relocation (A4).
+    /// Collisions (A3, \[PH94 (1)-(5)\]) by the table at every site, then the
+    /// relocation of the extra rest particles of R4 and R5 (A4).
     fn collide(&mut self) -> Result<()> {
         self.extras.clear();
         let (w, l) = (self.params.width, self.params.length);
@@ -335,8 +380,8 @@ impl<D: Draws> Pipe<D> {
         }
     }
 
-    /// Relocation of extra rest particles (A4), by the rule shared with the
-    /// fast engine ([`relocation::relocate`]).
+    /// Relocation of the extra rest particles (A4, \[PH94\] before (4)), by
+    /// the rule shared with the fast engine ([`relocation::relocate`]).
     fn relocate(&mut self) -> Result<()> {
         let rest_now = self.rest_count();
         let stride = self.stride;
@@ -361,12 +406,12 @@ impl<D: Draws> Pipe<D> {
         )
     }
 
-    /// Gravity step (A5) at every site, with the moves tabulated per state.
+    /// Gravity (A5, \[PH94 (6)\], \[PH95 Fig. 1c\]): at every site each move of
+    /// the state's tabulated moves with probability g, then `rest-slide`.
     fn gravity(&mut self) {
         if self.g_t == 0 {
             return;
         }
-        const SLIDE_FROM: u8 = REST_BIT | bit(4);
         let slide = self.rules.rest_slide;
         let (w, l) = (self.params.width, self.params.length);
         for x in 0..w {
@@ -384,25 +429,32 @@ impl<D: Draws> Pipe<D> {
                         new = (new & !bit(from as usize)) | bit(to as usize);
                     }
                 }
-                // `rest-slide`: a rest particle under an occupied channel 4
-                // slides down a diagonal (0 -> 3 or 0 -> 5) with probability g.
                 if blocked_rest {
-                    let free = (new & bit(3) == 0, new & bit(5) == 0);
-                    if (free.0 || free.1) && self.rng.chance(self.g_t) {
-                        let to = match free {
-                            (true, true) if self.rng.coin() => 5,
-                            (true, _) => 3,
-                            _ => 5,
-                        };
-                        new = (new & !REST_BIT) | bit(to);
-                    }
+                    new = self.rest_slide(new);
                 }
                 self.cells[i] = new;
             }
         }
     }
 
-    /// `wall-drag` (A6 variant): movers along a wall column bounce back (1 <-> 4).
+    /// `rest-slide` (A5, a project proposal): a rest particle under an
+    /// occupied channel 4 slides down a free diagonal (0 -> 3 or 0 -> 5)
+    /// with probability g, a fair coin choosing when both are free.
+    fn rest_slide(&mut self, s: u8) -> u8 {
+        let free = (s & bit(3) == 0, s & bit(5) == 0);
+        if !(free.0 || free.1) || !self.rng.chance(self.g_t) {
+            return s;
+        }
+        let to = match free {
+            (true, true) if self.rng.coin() => 5,
+            (true, _) => 3,
+            _ => 5,
+        };
+        (s & !REST_BIT) | bit(to)
+    }
+
+    /// `wall-drag` (A6 variant, a project proposal): in a wall column a lone
+    /// mover along the wall (1 or 4) is reversed with probability b.
     fn wall_drag(&mut self) {
         let w = self.params.width;
         let cols: &[usize] = if w == 1 { &[0] } else { &[0, w - 1] };
@@ -418,44 +470,55 @@ impl<D: Draws> Pipe<D> {
         }
     }
 
-    /// `wall-move` (A6 variant): the A6 reflection of particles heading into a
-    /// wall is applied before propagation, so they move along the reflected
-    /// velocity this step, whenever the reflected channels are empty (else
-    /// propagation reflects them in place, as in A6). Same draws as A6: one
-    /// per lone particle (bounce-back with probability b), none for a pair.
+    /// `wall-move` (A6, the default): the wall rule applied before
+    /// propagation, so that a reflected particle moves this step, wherever
+    /// its reflected channels are empty (else propagation reflects it in
+    /// place, as in A6).
     fn wall_move(&mut self) {
         let w = self.params.width;
         if w == 1 {
             return;
         }
-        // (column, the two channels into the wall, their bounce-back and
-        // specular targets)
-        let walls = [(0, [2, 3], [5, 6], [6, 5]), (w - 1, [6, 5], [3, 2], [2, 3])];
-        for (x, into, bounce, specular) in walls {
+        for wall in walls(w) {
             for y in 0..self.params.length {
-                let i = self.idx(x, y);
+                let i = self.idx(wall.x, y);
                 let s = self.cells[i];
-                let leaving = [s & bit(into[0]) != 0, s & bit(into[1]) != 0];
-                let out = match leaving {
-                    [false, false] => continue,
-                    [true, true] => bit(bounce[0]) | bit(bounce[1]),
-                    _ => {
-                        let k = if leaving[0] { 0 } else { 1 };
-                        if self.rng.chance(self.b_t) {
-                            bit(bounce[k])
-                        } else {
-                            bit(specular[k])
-                        }
-                    }
-                };
-                if s & out == 0 {
-                    self.cells[i] = (s & !(bit(into[0]) | bit(into[1]))) | out;
+                let out = self.reflect(s, &wall);
+                if out != 0 && s & out == 0 {
+                    self.cells[i] = (s & !wall.heading_in()) | out;
                 }
             }
         }
     }
 
-    /// Count particles that propagation moves out through the ends (open pipe).
+    /// Propagation (A2 step 5, \[PH94\], \[PH95 II\]): every mover moves to its
+    /// neighbour (A1); at the ends the periodic wrap or the outflow of the
+    /// open pipe (A7); at a wall the reflection in place (A6).
+    fn propagate(&mut self) {
+        match self.params.boundary {
+            Boundary::Periodic => self.wrap_ends(),
+            Boundary::Open { .. } => self.count_exits(),
+        }
+        self.stream();
+        self.reflect_at_walls();
+        std::mem::swap(&mut self.cells, &mut self.next);
+    }
+
+    // The parts of propagation.
+
+    /// The periodic pipe (A7): copy rows L-1 and 0 to the ghost rows below
+    /// row 0 and above row L-1.
+    fn wrap_ends(&mut self) {
+        let (l, st) = (self.params.length, self.stride);
+        for x in 0..self.params.width {
+            let c = (x + 1) * st;
+            self.cells[c] = self.cells[c + l];
+            self.cells[c + l + 1] = self.cells[c + 1];
+        }
+    }
+
+    /// Count the particles that propagation moves out through the ends of
+    /// the open pipe (A7): below row 0, above row L-1.
     fn count_exits(&mut self) {
         let (w, l) = (self.params.width, self.params.length);
         let rows: &[usize] = if l == 1 { &[0] } else { &[0, l - 1] };
@@ -480,21 +543,11 @@ impl<D: Draws> Pipe<D> {
         }
     }
 
-    /// Propagation (A4 step 4) with walls (A6): every mover moves to its
-    /// neighbour; at a wall it stays and is bounced back (probability b) or
-    /// specularly reflected.
-    fn propagate(&mut self) {
+    /// Streaming into `next`: channel c of a site is taken from its
+    /// neighbour against direction c (A1; odd columns sit half a row
+    /// higher). Ghost cells are empty or hold the wrapped rows.
+    fn stream(&mut self) {
         let (w, l, st) = (self.params.width, self.params.length, self.stride);
-        match self.params.boundary {
-            Boundary::Periodic => {
-                for x in 0..w {
-                    let c = (x + 1) * st;
-                    self.cells[c] = self.cells[c + l];
-                    self.cells[c + l + 1] = self.cells[c + 1];
-                }
-            }
-            Boundary::Open { .. } => self.count_exits(),
-        }
         const B0: u8 = 1;
         const B1: u8 = 1 << 1;
         const B2: u8 = 1 << 2;
@@ -520,54 +573,39 @@ impl<D: Draws> Pipe<D> {
                     | (cells[left + j - 1 + o] & B6);
             }
         }
-        // walls: particles about to leave stay and are reflected
-        let c0 = st;
-        for j in 1..=l {
-            let s = self.cells[c0 + j] & (B2 | B3);
-            if s != 0 {
-                self.next[c0 + j] |= match s {
-                    B2 => {
-                        if self.rng.chance(self.b_t) {
-                            B5
-                        } else {
-                            B6
-                        }
-                    }
-                    B3 => {
-                        if self.rng.chance(self.b_t) {
-                            B6
-                        } else {
-                            B5
-                        }
-                    }
-                    _ => B5 | B6,
-                };
+    }
+
+    /// The wall rule (A6, \[PH94 (7)\]) in place: a particle of a wall column
+    /// heading into the wall stays and leaves in its reflected channel.
+    /// With W = 1 both walls act on the one column.
+    fn reflect_at_walls(&mut self) {
+        for wall in walls(self.params.width) {
+            for y in 0..self.params.length {
+                let i = self.idx(wall.x, y);
+                let out = self.reflect(self.cells[i], &wall);
+                self.next[i] |= out;
             }
         }
-        let cw = w * st;
-        for j in 1..=l {
-            let s = self.cells[cw + j] & (B5 | B6);
-            if s != 0 {
-                self.next[cw + j] |= match s {
-                    B6 => {
-                        if self.rng.chance(self.b_t) {
-                            B3
-                        } else {
-                            B2
-                        }
-                    }
-                    B5 => {
-                        if self.rng.chance(self.b_t) {
-                            B2
-                        } else {
-                            B3
-                        }
-                    }
-                    _ => B2 | B3,
-                };
+    }
+
+    /// The reflected channels of the particles of state `s` heading into
+    /// `wall` (A6), 0 when there are none: a lone one bounces back with
+    /// probability b (one draw) and is mirrored otherwise; a pair bounces
+    /// back, with no draw.
+    fn reflect(&mut self, s: u8, wall: &Wall) -> u8 {
+        let heading = [s & bit(wall.into[0]) != 0, s & bit(wall.into[1]) != 0];
+        match heading {
+            [false, false] => 0,
+            [true, true] => bit(wall.bounce[0]) | bit(wall.bounce[1]),
+            _ => {
+                let k = usize::from(heading[1]);
+                if self.rng.chance(self.b_t) {
+                    bit(wall.bounce[k])
+                } else {
+                    bit(wall.specular[k])
+                }
             }
         }
-        std::mem::swap(&mut self.cells, &mut self.next);
     }
 }
 
