@@ -29,6 +29,7 @@ pub mod engine;
 pub mod fast;
 pub mod observables;
 pub mod open;
+mod order;
 pub mod overlap;
 pub mod record;
 pub mod reference;

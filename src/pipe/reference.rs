@@ -3,12 +3,15 @@
 //! Deliberately plain: one byte per site (bit `c` = channel `c`, bit 0 = rest
 //! particle), scalar loops in a fixed order of sites, the rules read from
 //! tables ([`CollisionTable`], the gravity moves per state), no unsafe. One
-//! step ([`Pipe::step`]) runs the sub-steps of MODEL.md A2 in their order;
-//! each is one function below, in that order. What a run measures (counts,
-//! bin densities) is in [`super::observables`].
+//! step ([`Pipe::step`]) runs the sub-steps of MODEL.md A2 in the order that
+//! `src/pipe/order.rs` writes once for both engines: injection, collisions
+//! with relocation, gravity, walls, propagation; each is one function of the
+//! `SubSteps` impl below, in that order. What a run measures (counts, bin
+//! densities) is in [`super::observables`].
 
 use super::collision::{bit, threshold, CollisionTable, Entry, REST_BIT};
 use super::draws::Draws;
+use super::order::{self, SubSteps};
 use super::relocation;
 use super::{Boundary, Flux, GravityWording, Params, Rules};
 use crate::error::{check_unit, Result};
@@ -305,32 +308,24 @@ impl<D: Draws> Pipe<D> {
         Ok(())
     }
 
-    /// One time step (MODEL.md A2): injection (open pipe), collision with
-    /// relocation and gravity (gravity first with `gravity-first`), wall drag
-    /// and wall move if named, propagation.
+    /// One time step (MODEL.md A2): the sub-steps below in the order that
+    /// `order::step` writes once for both engines.
     pub fn step(&mut self) -> Result<()> {
-        if let Boundary::Open { .. } = self.params.boundary {
-            self.inject();
-        }
-        if self.rules.gravity_first {
-            self.gravity();
-            self.collide()?;
-        } else {
-            self.collide()?;
-            self.gravity();
-        }
-        if self.rules.wall_drag {
-            self.wall_drag();
-        }
-        if self.rules.wall_move {
-            self.wall_move();
-        }
-        self.propagate();
-        self.time += 1;
-        Ok(())
+        order::step(self)
+    }
+}
+
+/// The sub-steps of one time step, in the order of MODEL.md A2.
+impl<D: Draws> SubSteps for Pipe<D> {
+    /// The parameters of the run.
+    fn params(&self) -> &Params {
+        &self.params
     }
 
-    // The sub-steps of one step, in the order of MODEL.md A2.
+    /// The rule reading of the run.
+    fn rules(&self) -> Rules {
+        self.rules
+    }
 
     /// Injection (A7, \[PH95 III I\]): each empty channel 3, 4, 5 of the top
     /// row is filled with probability I, site by site from the left.
@@ -380,32 +375,6 @@ impl<D: Draws> Pipe<D> {
         }
     }
 
-    /// Relocation of the extra rest particles (A4, \[PH94\] before (4)), by
-    /// the rule shared with the fast engine ([`relocation::relocate`]).
-    fn relocate(&mut self) -> Result<()> {
-        let rest_now = self.rest_count();
-        let stride = self.stride;
-        let mut extras: Vec<(usize, usize)> = self
-            .extras
-            .iter()
-            .map(|&i| (i as usize / stride - 1, i as usize % stride - 1))
-            .collect();
-        let mut view = RestView {
-            cells: &mut self.cells,
-            stride,
-        };
-        let rng = &mut self.rng;
-        relocation::relocate(
-            &mut view,
-            &mut |n| rng.below(n),
-            &self.params,
-            self.rules,
-            &mut extras,
-            rest_now,
-            self.time,
-        )
-    }
-
     /// Gravity (A5, \[PH94 (6)\], \[PH95 Fig. 1c\]): at every site each move of
     /// the state's tabulated moves with probability g, then `rest-slide`.
     fn gravity(&mut self) {
@@ -435,22 +404,6 @@ impl<D: Draws> Pipe<D> {
                 self.cells[i] = new;
             }
         }
-    }
-
-    /// `rest-slide` (A5, a project proposal): a rest particle under an
-    /// occupied channel 4 slides down a free diagonal (0 -> 3 or 0 -> 5)
-    /// with probability g, a fair coin choosing when both are free.
-    fn rest_slide(&mut self, s: u8) -> u8 {
-        let free = (s & bit(3) == 0, s & bit(5) == 0);
-        if !(free.0 || free.1) || !self.rng.chance(self.g_t) {
-            return s;
-        }
-        let to = match free {
-            (true, true) if self.rng.coin() => 5,
-            (true, _) => 3,
-            _ => 5,
-        };
-        (s & !REST_BIT) | bit(to)
     }
 
     /// `wall-drag` (A6 variant, a project proposal): in a wall column a lone
@@ -504,7 +457,55 @@ impl<D: Draws> Pipe<D> {
         std::mem::swap(&mut self.cells, &mut self.next);
     }
 
-    // The parts of propagation.
+    /// One step done.
+    fn tick(&mut self) {
+        self.time += 1;
+    }
+}
+
+/// The parts of the sub-steps.
+impl<D: Draws> Pipe<D> {
+    /// Relocation of the extra rest particles (A4, \[PH94\] before (4)), by
+    /// the rule shared with the fast engine ([`relocation::relocate`]).
+    fn relocate(&mut self) -> Result<()> {
+        let rest_now = self.rest_count();
+        let stride = self.stride;
+        let mut extras: Vec<(usize, usize)> = self
+            .extras
+            .iter()
+            .map(|&i| (i as usize / stride - 1, i as usize % stride - 1))
+            .collect();
+        let mut view = RestView {
+            cells: &mut self.cells,
+            stride,
+        };
+        let rng = &mut self.rng;
+        relocation::relocate(
+            &mut view,
+            &mut |n| rng.below(n),
+            &self.params,
+            self.rules,
+            &mut extras,
+            rest_now,
+            self.time,
+        )
+    }
+
+    /// `rest-slide` (A5, a project proposal): a rest particle under an
+    /// occupied channel 4 slides down a free diagonal (0 -> 3 or 0 -> 5)
+    /// with probability g, a fair coin choosing when both are free.
+    fn rest_slide(&mut self, s: u8) -> u8 {
+        let free = (s & bit(3) == 0, s & bit(5) == 0);
+        if !(free.0 || free.1) || !self.rng.chance(self.g_t) {
+            return s;
+        }
+        let to = match free {
+            (true, true) if self.rng.coin() => 5,
+            (true, _) => 3,
+            _ => 5,
+        };
+        (s & !REST_BIT) | bit(to)
+    }
 
     /// The periodic pipe (A7): copy rows L-1 and 0 to the ghost rows below
     /// row 0 and above row L-1.
