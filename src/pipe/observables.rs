@@ -1,5 +1,13 @@
-//! Observables of the bin densities n_i (MODEL.md A9, A11): the density
-//! contrast, the low-k structure factor that detects travelling bands.
+//! What a pipe run measures rather than evolves (MODEL.md A7, A9, A11):
+//! the particle counts and bin densities n_i of the reference engine
+//! [`Pipe`], the open pipe's flux counters [`Flux`], and the observables of
+//! the bin densities: the density contrast, the low-k structure factor that
+//! detects travelling bands.
+
+use super::collision::{MOVERS, REST_BIT};
+use super::draws::Draws;
+use super::Pipe;
+use serde::Serialize;
 
 /// Density contrast C = (1/n_mean) sum_i |n_i - n_{i+1}|, periodic in i
 /// \[PH95 eq. 1\]. Returns 0 for an empty pipe.
@@ -108,6 +116,88 @@ impl LowK {
     pub fn mean(&self) -> f64 {
         let v = self.normalised();
         v.iter().sum::<f64>() / v.len() as f64
+    }
+}
+
+/// Counters of the open pipe (MODEL.md A7): injected - out_bottom - out_top
+/// equals the change of the particle number, exactly.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct Flux {
+    /// Particles injected at the top so far.
+    pub injected: u64,
+    /// Particles that left below row 0 (the outflow).
+    pub out_bottom: u64,
+    /// Particles that left above row L-1.
+    pub out_top: u64,
+}
+
+/// What the reference engine measures (MODEL.md A9, \[PH95 Fig. 3\]); the
+/// fast engine counts the same quantities word by word.
+impl<D: Draws> Pipe<D> {
+    /// The sum of `f(state)` over every site.
+    fn sum_sites(&self, f: impl Fn(u8) -> u64) -> u64 {
+        (0..self.params().width)
+            .map(|x| self.column(x).iter().map(|&s| f(s)).sum::<u64>())
+            .sum()
+    }
+
+    /// Total number of particles N (all channels).
+    pub fn particle_count(&self) -> u64 {
+        self.sum_sites(|s| s.count_ones() as u64)
+    }
+
+    /// Kinetic energy E = number of moving particles \[PH95 Fig. 3b\].
+    pub fn moving_count(&self) -> u64 {
+        self.sum_sites(|s| (s & MOVERS).count_ones() as u64)
+    }
+
+    /// Number of rest particles on the lattice (not counting extras).
+    pub fn rest_count(&self) -> u64 {
+        self.sum_sites(|s| (s & REST_BIT) as u64)
+    }
+
+    /// Number of particles in each channel 0..=6 (for diagnostics).
+    pub fn channel_counts(&self) -> [u64; 7] {
+        let mut n = [0u64; 7];
+        for x in 0..self.params().width {
+            for &s in self.column(x) {
+                for (c, v) in n.iter_mut().enumerate() {
+                    *v += ((s >> c) & 1) as u64;
+                }
+            }
+        }
+        n
+    }
+
+    /// Bin densities n_i (A9): particles in rows `i*bin .. (i+1)*bin`, all columns.
+    pub fn bin_counts(&self) -> Vec<f64> {
+        let mut out = vec![0.0; self.params().bins()];
+        self.fill_bin_counts(&mut out);
+        out
+    }
+
+    /// [`Pipe::bin_counts`] into a buffer of length K (no allocation).
+    pub fn fill_bin_counts(&self, out: &mut [f64]) {
+        let bin = self.params().bin;
+        out.iter_mut().for_each(|v| *v = 0.0);
+        for x in 0..self.params().width {
+            for (k, chunk) in self.column(x).chunks(bin).enumerate() {
+                out[k] += chunk.iter().map(|&s| s.count_ones()).sum::<u32>() as f64;
+            }
+        }
+    }
+
+    /// Particle count of bin `i` alone (cheap, for spectra of one bin).
+    pub fn bin_count(&self, i: usize) -> u32 {
+        let bin = self.params().bin;
+        (0..self.params().width)
+            .map(|x| {
+                self.column(x)[i * bin..(i + 1) * bin]
+                    .iter()
+                    .map(|&s| s.count_ones())
+                    .sum::<u32>()
+            })
+            .sum()
     }
 }
 

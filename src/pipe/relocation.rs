@@ -7,6 +7,15 @@ use super::{Boundary, Params, RestPlacement, Rules};
 use crate::error::{Error, ErrorKind, Result};
 use crate::lattice::neighbour;
 
+/// Whether an error means the model is undefined for this run (MODEL.md A4)
+/// rather than a bug or bad input.
+pub fn is_validity_limit(kind: ErrorKind) -> bool {
+    matches!(
+        kind,
+        ErrorKind::RestExceedsSites | ErrorKind::RelocationStuck
+    )
+}
+
 /// The rest channels of a lattice, as relocation reads and fills them.
 pub trait RestChannels {
     /// Whether site (x, y) holds a rest particle.

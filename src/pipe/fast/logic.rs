@@ -299,7 +299,7 @@ mod tests {
             GravityWording::AnyMover,
             GravityWording::UpToRest,
         ] {
-            let table = crate::pipe::gravity_table(wording);
+            let table = crate::pipe::reference::gravity_table(wording);
             // each subset of the four move kinds drawn true
             for drawn in 0..16u32 {
                 let pick = |i: u32| if drawn >> i & 1 == 1 { u64::MAX } else { 0 };

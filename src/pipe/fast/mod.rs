@@ -29,6 +29,7 @@ pub mod logic;
 
 use super::collision::{bit, threshold, CollisionTable, Entry};
 use super::engine::{EngineBuilder, PipeEngine};
+use super::order::{self, SubSteps};
 use super::relocation;
 use super::{Boundary, Flux, Params, Rules};
 use crate::error::{check_unit, Result};
@@ -231,29 +232,25 @@ impl FastPipe {
         Ok(())
     }
 
-    /// One time step in the order of MODEL.md A2: injection (open pipe),
-    /// collisions with relocation and gravity (gravity first with
-    /// `gravity-first`), `wall-drag`, `wall-move`, propagation.
+    /// One time step in the order of MODEL.md A2, written once for both
+    /// engines (`order::step`): injection (open pipe), collisions with
+    /// relocation and gravity (gravity first with `gravity-first`),
+    /// `wall-drag`, `wall-move`, propagation.
     pub fn step(&mut self) -> Result<()> {
-        if let Boundary::Open { .. } = self.params.boundary {
-            self.inject();
-        }
-        if self.rules.gravity_first {
-            self.gravity();
-            self.collide()?;
-        } else {
-            self.collide()?;
-            self.gravity();
-        }
-        if self.rules.wall_drag {
-            self.wall_drag();
-        }
-        if self.rules.wall_move {
-            self.wall_move();
-        }
-        self.propagate();
-        self.time += 1;
-        Ok(())
+        order::step(self)
+    }
+}
+
+/// The sub-steps of one time step, in the order of MODEL.md A2.
+impl SubSteps for FastPipe {
+    /// The parameters of the run.
+    fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// The rule reading of the run.
+    fn rules(&self) -> Rules {
+        self.rules
     }
 
     /// Injection (MODEL.md A7): each empty channel 3, 4, 5 of the top row
@@ -314,28 +311,6 @@ impl FastPipe {
         }
     }
 
-    /// Relocation of the extra rest particles (MODEL.md A4), by the rule the
-    /// reference uses ([`relocation::relocate`]).
-    fn relocate(&mut self) -> Result<()> {
-        let rest_now = self.rest_count();
-        let w = self.params.width as u64;
-        let mut extras: Vec<(usize, usize)> = self
-            .extras
-            .iter()
-            .map(|&site| ((site % w) as usize, (site / w) as usize))
-            .collect();
-        let rng = &mut self.rng;
-        relocation::relocate(
-            &mut self.grid,
-            &mut |n| lanes::below(rng, n),
-            &self.params,
-            self.rules,
-            &mut extras,
-            rest_now,
-            self.time,
-        )
-    }
-
     /// Gravity step (MODEL.md A5): the moves possible before gravity, each
     /// made with probability g (an independent draw per particle), then
     /// `rest-slide` if named.
@@ -361,25 +336,6 @@ impl FastPipe {
             } else {
                 after
             };
-        }
-    }
-
-    /// `rest-slide` (MODEL.md A5): a rest particle blocked by an occupied
-    /// channel 4 slides down a free diagonal with probability g (a fair coin
-    /// when both are free).
-    fn rest_slide(rng: &mut Xoshiro256PlusPlus, g: u64, before: &Word, after: &Word) -> Word {
-        let slid = lanes::bernoulli(rng, g, logic::slide_candidates(before, after));
-        let coin = lanes::coins(rng, logic::slide_choices(after, slid));
-        logic::apply_slide(after, slid, coin)
-    }
-
-    /// The wall columns: 0 and W-1, the one column when W = 1 (MODEL.md A6).
-    fn wall_columns(&self) -> Vec<usize> {
-        let w = self.params.width;
-        if w == 1 {
-            vec![0]
-        } else {
-            vec![0, w - 1]
         }
     }
 
@@ -430,6 +386,55 @@ impl FastPipe {
         self.grid.stream_into(&mut self.next, periodic);
         self.reflect_at_walls();
         std::mem::swap(&mut self.grid, &mut self.next);
+    }
+
+    /// One step done.
+    fn tick(&mut self) {
+        self.time += 1;
+    }
+}
+
+/// The parts of the sub-steps, and what a run measures.
+impl FastPipe {
+    /// Relocation of the extra rest particles (MODEL.md A4), by the rule the
+    /// reference uses ([`relocation::relocate`]).
+    fn relocate(&mut self) -> Result<()> {
+        let rest_now = self.rest_count();
+        let w = self.params.width as u64;
+        let mut extras: Vec<(usize, usize)> = self
+            .extras
+            .iter()
+            .map(|&site| ((site % w) as usize, (site / w) as usize))
+            .collect();
+        let rng = &mut self.rng;
+        relocation::relocate(
+            &mut self.grid,
+            &mut |n| lanes::below(rng, n),
+            &self.params,
+            self.rules,
+            &mut extras,
+            rest_now,
+            self.time,
+        )
+    }
+
+    /// `rest-slide` (MODEL.md A5): a rest particle blocked by an occupied
+    /// channel 4 slides down a free diagonal with probability g (a fair coin
+    /// when both are free).
+    fn rest_slide(rng: &mut Xoshiro256PlusPlus, g: u64, before: &Word, after: &Word) -> Word {
+        let slid = lanes::bernoulli(rng, g, logic::slide_candidates(before, after));
+        let coin = lanes::coins(rng, logic::slide_choices(after, slid));
+        logic::apply_slide(after, slid, coin)
+    }
+
+    /// The wall columns: 0 and W-1, the one column when W = 1 (MODEL.md A6).
+    fn wall_columns(&self) -> Vec<usize> {
+        let w = self.params.width;
+        if w == 1 {
+            vec![0]
+        } else {
+            vec![0, w - 1]
+        }
     }
 
     /// Particles that propagation moves out through the ends of the open

@@ -1,0 +1,54 @@
+//! The order of one time step (MODEL.md A2), written once for every engine:
+//! an engine implements the sub-steps ([`SubSteps`]), [`step`] runs them.
+
+use super::{Boundary, Params, Rules};
+use crate::error::Result;
+
+/// The sub-steps of one time step of the pipe (MODEL.md A2), each over the
+/// whole lattice, as one engine implements them.
+pub(crate) trait SubSteps {
+    /// The parameters of the run.
+    fn params(&self) -> &Params;
+    /// The rule reading of the run.
+    fn rules(&self) -> Rules;
+    /// Injection at the top row of the open pipe (A7).
+    fn inject(&mut self);
+    /// Collisions (A3), then the relocation of extra rest particles (A4).
+    fn collide(&mut self) -> Result<()>;
+    /// Gravity (A5), with `rest-slide` if named.
+    fn gravity(&mut self);
+    /// `wall-drag` (A6 variant).
+    fn wall_drag(&mut self);
+    /// `wall-move` (A6): the wall rule before propagation.
+    fn wall_move(&mut self);
+    /// Propagation (A2 step 5) with the walls (A6) and the ends (A7).
+    fn propagate(&mut self);
+    /// Count the step done (the clock the runs report as `time`).
+    fn tick(&mut self);
+}
+
+/// One time step (MODEL.md A2): injection (open pipe only); gravity then
+/// collisions with `gravity-first`, else collisions then gravity;
+/// `wall-drag` and `wall-move` if named; propagation.
+pub(crate) fn step(engine: &mut impl SubSteps) -> Result<()> {
+    let rules = engine.rules();
+    if let Boundary::Open { .. } = engine.params().boundary {
+        engine.inject();
+    }
+    if rules.gravity_first {
+        engine.gravity();
+        engine.collide()?;
+    } else {
+        engine.collide()?;
+        engine.gravity();
+    }
+    if rules.wall_drag {
+        engine.wall_drag();
+    }
+    if rules.wall_move {
+        engine.wall_move();
+    }
+    engine.propagate();
+    engine.tick();
+    Ok(())
+}
