@@ -1,7 +1,8 @@
 //! BB90 Fig. 2: the hopper filling (b) and emptying with beta = 0 (a) and
-//! beta = 1 (c-f), for both readings of "aligned" (MODEL.md B4, B6): the
-//! default same-orientation reading first (`beta1_same`), the literal
-//! along-velocity reading (`beta1_along`) as the comparison.
+//! beta = 1 (c-f), for three readings of "aligned" (MODEL.md B4, B6): the
+//! default along-bond reading first (`beta1_bond`), the same-orientation
+//! reading (`beta1_same`, the default before) and the literal
+//! along-velocity reading (`beta1_along`) as comparisons.
 //!
 //! `cargo run --release --bin hopper-fig2 -- --tier quick`
 
@@ -26,7 +27,7 @@ struct Args {
     /// `beta0,beta1_rest,beta1_same_narrow`); each gets every check. A
     /// beta = 0 case comes first (its run 0 is the left panel of every
     /// picture); the default's first beta = 1 case is the default reading.
-    #[arg(long, default_value = "beta0,beta1_same,beta1_along")]
+    #[arg(long, default_value = "beta0,beta1_bond,beta1_same,beta1_along")]
     cases: String,
 }
 
@@ -104,9 +105,9 @@ fn main() -> granular_automata::Result<()> {
     // pictures: one per reading of "aligned", run 0
     let scale = tier.pick(5.0, 2.6, 2.6);
     for (case, rs) in cases.iter().zip(&recs).skip(1) {
-        // the two original readings keep their file names
+        // the three readings of "aligned" are named by the reading
         let name = match case.key {
-            "beta1_along" | "beta1_same" => case.aligned.name(),
+            "beta1_along" | "beta1_same" | "beta1_bond" => case.aligned.name(),
             key => key,
         };
         let panels = Panel::fig2(&recs[0][0], &rs[0], &snaps);

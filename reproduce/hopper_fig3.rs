@@ -31,7 +31,7 @@ struct Args {
     /// Comma-separated cases (readings) to run, from `Case::ALL`; the rate
     /// of each beta = 1 case is compared with the first beta = 0 case. The
     /// default's first case is the default reading.
-    #[arg(long, default_value = "beta1_same,beta1_along,beta0")]
+    #[arg(long, default_value = "beta1_bond,beta1_same,beta1_along,beta0")]
     cases: String,
 }
 

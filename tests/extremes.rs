@@ -419,7 +419,7 @@ mod spectra {
 }
 
 mod hopper {
-    use granular_automata::hopper::energy::{motion, orientation, state, STATES};
+    use granular_automata::hopper::energy::{motion, orientation, state};
     use granular_automata::hopper::model::{grain_state, is_grain};
     use granular_automata::hopper::{Aligned, EnergyParams, EnergyTable, Hopper, HopperParams};
     use granular_automata::lattice::velocity;
@@ -444,7 +444,7 @@ mod hopper {
         } else {
             0.0
         };
-        for &j in &nb {
+        for (k, &j) in nb.iter().enumerate() {
             if j == u32::MAX || !is_grain(sites[j as usize]) {
                 continue;
             }
@@ -456,6 +456,8 @@ mod hopper {
             let aligned = match p.aligned {
                 Aligned::SameOrientation => same,
                 Aligned::AlongVelocity => same && (along(v) || along(motion(sn))),
+                // the neighbour lies in direction k + 1, along axis k mod 3
+                Aligned::AlongBond => same && k % 3 == orientation(s),
             };
             let orient = if aligned { p.s } else { 1.0 };
             let d = 0.5 * (h.spacing()[i] + h.spacing()[j as usize]);
@@ -485,7 +487,7 @@ mod hopper {
             ("beta = 20", |e| e.beta = 20.0),
         ];
         for (name, set) in cases {
-            for aligned in [Aligned::AlongVelocity, Aligned::SameOrientation] {
+            for aligned in Aligned::ALL {
                 let mut p = HopperParams::quick();
                 p.energy.aligned = aligned;
                 set(&mut p.energy);
@@ -502,19 +504,19 @@ mod hopper {
                     }
                 }
                 if e.beta == 0.0 {
-                    let other = EnergyTable::new(EnergyParams {
-                        aligned: match aligned {
-                            Aligned::AlongVelocity => Aligned::SameOrientation,
-                            Aligned::SameOrientation => Aligned::AlongVelocity,
-                        },
-                        ..e
-                    })
-                    .unwrap();
-                    assert_eq!(t.pair, other.pair, "{name}: the reading must not matter");
+                    for other in Aligned::ALL {
+                        let other = EnergyTable::new(EnergyParams {
+                            aligned: other,
+                            ..e
+                        })
+                        .unwrap();
+                        assert_eq!(t.pair, other.pair, "{name}: the reading must not matter");
+                    }
                 }
                 if e.beta == 20.0 {
-                    // an aligned pair of vertical grains moving down weighs S^20
-                    let w = t.pair[state(0, 4) * STATES + state(0, 4)];
+                    // an aligned pair of vertical grains moving down, one
+                    // above the other (aligned in every reading), weighs S^20
+                    let w = t.pair_factor(state(0, 4), state(0, 4), 1);
                     let want = 0.1f64.powf(e.alpha) * e.s.powf(20.0);
                     assert!(w > 0.0 && (w - want).abs() <= 1e-12 * want, "{name}: {w}");
                 }

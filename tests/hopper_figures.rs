@@ -64,7 +64,7 @@ fn metric(v: &serde_json::Value, name: &str) -> f64 {
 fn hopper_fig2_writes_its_figure_and_metrics() {
     let v = run("hopper-fig2", env!("CARGO_BIN_EXE_hopper-fig2"));
     assert_eq!(v["paper"], "BB90 Fig. 2");
-    for case in ["beta0", "beta1_along", "beta1_same"] {
+    for case in ["beta0", "beta1_bond", "beta1_along", "beta1_same"] {
         for m in [
             "core_width_low",
             "core_width_high",
@@ -84,27 +84,25 @@ fn hopper_fig2_writes_its_figure_and_metrics() {
     assert!((metric(&v, "beta0_order_half_empty") - 1.0 / 3.0).abs() < 0.03);
     assert_eq!(
         first_beta1_case(&v),
-        "beta1_same",
+        "beta1_bond",
         "the default reading first"
     );
+    assert!(metric(&v, "beta1_bond_order_half_empty") > 0.5);
     assert!(metric(&v, "beta1_same_order_half_empty") > 0.5);
     assert!(metric(&v, "beta1_along_order_half_empty") > 0.5);
     assert!(metric(&v, "beta0_occupancy_core") < metric(&v, "beta0_occupancy_sides"));
 }
 
 /// Key of the first beta = 1 case of the default `--cases`, and check that
-/// it is the library default reading of "aligned" (same orientation).
+/// it is the library default reading of "aligned" (along the bond).
 fn first_beta1_case(v: &serde_json::Value) -> String {
     let cases = v["params"]["cases"].as_array().expect("params.cases");
     let c = cases
         .iter()
         .find(|c| c["beta"].as_f64() == Some(1.0))
         .expect("a beta = 1 case");
-    assert_eq!(c["aligned"], "same-orientation");
-    assert_eq!(
-        v["params"]["hopper"]["energy"]["aligned"],
-        "same-orientation"
-    );
+    assert_eq!(c["aligned"], "along-bond");
+    assert_eq!(v["params"]["hopper"]["energy"]["aligned"], "along-bond");
     c["key"].as_str().unwrap().to_string()
 }
 
@@ -114,10 +112,10 @@ fn hopper_fig3_writes_its_figure_and_metrics() {
     assert_eq!(v["paper"], "BB90 Fig. 3");
     assert_eq!(
         first_beta1_case(&v),
-        "beta1_same",
+        "beta1_bond",
         "the default reading first"
     );
-    for case in ["beta0", "beta1_along", "beta1_same"] {
+    for case in ["beta0", "beta1_bond", "beta1_along", "beta1_same"] {
         for m in [
             "mean_rate",
             "sd_rate",

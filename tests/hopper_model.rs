@@ -28,6 +28,7 @@ fn grains_are_conserved_at_every_iteration() {
         (0.0, Aligned::AlongVelocity),
         (1.0, Aligned::AlongVelocity),
         (1.0, Aligned::SameOrientation),
+        (1.0, Aligned::AlongBond),
     ] {
         let mut p = HopperParams::quick();
         p.energy.beta = beta;
@@ -83,7 +84,7 @@ fn golden_fingerprint_of_a_small_seeded_run() {
     // Pins the exact stream: any change of the rules, the order of random
     // draws or the generator changes these numbers (update them
     // deliberately). Each reading of "aligned" is named explicitly; the
-    // default is pinned to be the same-orientation one.
+    // default is pinned to be the along-bond one (notes/hopper.md).
     let mut literal = HopperParams::quick();
     literal.energy.aligned = Aligned::AlongVelocity;
     let f = fingerprint_of(literal, SEED);
@@ -98,8 +99,12 @@ fn golden_fingerprint_of_a_small_seeded_run() {
         f, GOLDEN_SAME,
         "same-orientation fingerprint changed: {f:#x}"
     );
-    assert_eq!(same, HopperParams::quick(), "the default reading");
-    assert_eq!(fingerprint(SEED), GOLDEN_SAME);
+    let mut bond = HopperParams::quick();
+    bond.energy.aligned = Aligned::AlongBond;
+    let f = fingerprint_of(bond, SEED);
+    assert_eq!(f, GOLDEN_BOND, "along-bond fingerprint changed: {f:#x}");
+    assert_eq!(bond, HopperParams::quick(), "the default reading");
+    assert_eq!(fingerprint(SEED), GOLDEN_BOND);
 }
 
 /// FNV-1a of the sites after `fingerprint(SEED)` with the literal reading
@@ -107,8 +112,13 @@ fn golden_fingerprint_of_a_small_seeded_run() {
 /// notes/hopper-default-switch.md; the value is unchanged).
 const GOLDEN_ALONG: u64 = 0x77f4_4c66_a979_fb0b;
 
-/// The same with the same-orientation reading, the default.
+/// The same with the same-orientation reading (the default between
+/// notes/hopper-default-switch.md and notes/hopper.md; unchanged).
 const GOLDEN_SAME: u64 = 0xf3b7_30af_0f53_499a;
+
+/// The same with the along-bond reading (HOPPER_READINGS.md R1), the
+/// default since notes/hopper.md.
+const GOLDEN_BOND: u64 = 0xc7db_9f92_fc32_780a;
 
 /// E_i of MODEL.md B4 computed directly from the vectors, powers and the
 /// reading of "aligned" (slow, obvious reference).
@@ -125,7 +135,7 @@ fn reference_energy(h: &Hopper, i: usize, s: usize) -> f64 {
     } else {
         0.0
     };
-    for &j in &nb {
+    for (k, &j) in nb.iter().enumerate() {
         if j == u32::MAX || !is_grain(sites[j as usize]) {
             continue;
         }
@@ -138,6 +148,8 @@ fn reference_energy(h: &Hopper, i: usize, s: usize) -> f64 {
         let aligned = match p.aligned {
             Aligned::SameOrientation => same,
             Aligned::AlongVelocity => same && (along(v) || along(motion(sn))),
+            // the neighbour lies in direction k + 1, along axis k mod 3
+            Aligned::AlongBond => same && k % 3 == orientation(s),
         };
         let orient = if aligned { p.s } else { 1.0 };
         let d = 0.5 * (h.spacing()[i] + h.spacing()[j as usize]);
@@ -149,7 +161,7 @@ fn reference_energy(h: &Hopper, i: usize, s: usize) -> f64 {
 
 #[test]
 fn tabulated_energy_equals_the_formula() {
-    for aligned in [Aligned::AlongVelocity, Aligned::SameOrientation] {
+    for aligned in Aligned::ALL {
         let mut p = HopperParams::quick();
         p.energy.aligned = aligned;
         let mut h = Hopper::new(p, derive_seed(SEED, 7)).unwrap();

@@ -339,7 +339,7 @@ impl Case {
         },
     };
     /// Orientation on (beta = 1), "aligned" read literally: along the velocity
-    /// (a named variant; the default reading is [`Case::BETA1_SAME`]).
+    /// (a named variant; the default reading is [`Case::BETA1_BOND`]).
     pub const BETA1_ALONG: Case = Case {
         key: "beta1_along",
         caption: "beta = 1, aligned = along-velocity",
@@ -347,13 +347,23 @@ impl Case {
         aligned: Aligned::AlongVelocity,
         ..Case::BETA0
     };
-    /// Orientation on (beta = 1), "aligned" read as the same orientation: the
-    /// library default (`HopperParams::default()`, HOPPER_READINGS.md Part 3).
+    /// Orientation on (beta = 1), "aligned" read as the same orientation (a
+    /// named variant; the library default before along-bond).
     pub const BETA1_SAME: Case = Case {
         key: "beta1_same",
         caption: "beta = 1, aligned = same-orientation",
         beta: 1.0,
         aligned: Aligned::SameOrientation,
+        ..Case::BETA0
+    };
+    /// Orientation on (beta = 1), "aligned" read as the same orientation
+    /// lying along the bond between the two grains: the library default
+    /// (`HopperParams::default()`, HOPPER_READINGS.md R1 and Part 3).
+    pub const BETA1_BOND: Case = Case {
+        key: "beta1_bond",
+        caption: "beta = 1, aligned = along-bond",
+        beta: 1.0,
+        aligned: Aligned::AlongBond,
         ..Case::BETA0
     };
     /// beta = 1, literal reading, and two grains at rest count as aligned
@@ -430,10 +440,11 @@ impl Case {
     };
 
     /// Every named case, for `--cases`.
-    pub const ALL: [Case; 12] = [
+    pub const ALL: [Case; 13] = [
         Case::BETA0,
         Case::BETA1_ALONG,
         Case::BETA1_SAME,
+        Case::BETA1_BOND,
         Case::BETA1_REST,
         Case::BETA1_ALONG_NARROW,
         Case::BETA1_SAME_NARROW,

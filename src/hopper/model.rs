@@ -2,7 +2,7 @@
 //! conflict rule, the dilation spacing, rain-filling and emptying.
 
 use super::energy::{
-    motion, orientation, state, DilationParams, DilationReading, EnergyParams, EnergyTable, STATES,
+    motion, orientation, state, DilationParams, DilationReading, EnergyParams, EnergyTable,
 };
 use super::geometry::{Geometry, GeometryParams, SiteKind, OFF};
 use crate::error::{check_range, check_unit, Error, Result};
@@ -301,15 +301,16 @@ impl Hopper {
     /// Energy of grain `i` in state `s` given its neighbourhood (MODEL.md B4).
     fn energy_of(&self, i: usize, s: usize, hole_below: bool) -> f64 {
         let mut e = self.table.gravity(hole_below, motion(s));
-        let row = &self.table.pair[s * STATES..(s + 1) * STATES];
-        for &j in &self.geom.nbr[i] {
+        for (k, &j) in self.geom.nbr[i].iter().enumerate() {
             if j == OFF {
                 continue;
             }
             let sj = self.site[j as usize];
             if is_grain(sj) {
                 let w = self.pair_weight(i, j as usize);
-                e += row[grain_state(sj)] * w;
+                // the neighbour lies in direction k + 1 (the bond's axis
+                // matters under the along-bond reading of "aligned")
+                e += self.table.pair_factor(s, grain_state(sj), k + 1) * w;
             }
         }
         e

@@ -86,14 +86,17 @@ fn axis(c: usize) -> usize {
 }
 
 /// E_inter's F_shear^alpha F_orient^beta F_dilation^gamma for grain state
-/// `si` and neighbour state `sn` at pair spacing `d` (MODEL.md B4).
-fn pair_energy(p: &EnergyParams, si: usize, sn: usize, d: f64) -> f64 {
+/// `si` and neighbour state `sn` in direction `c` (1..=6) from the grain, at
+/// pair spacing `d` (MODEL.md B4).
+fn pair_energy(p: &EnergyParams, si: usize, sn: usize, c: usize, d: f64) -> f64 {
     let ((ax, ay), (bx, by)) = (velocity(motion(si)), velocity(motion(sn)));
     let shear = ((ax - bx).powi(2) + (ay - by).powi(2)).sqrt() + 0.1;
     let (oi, on, vi, vn) = (orientation(si), orientation(sn), motion(si), motion(sn));
     let aligned = oi == on
         && match p.aligned {
             Aligned::SameOrientation => true,
+            // the common axis lies along the bond to the neighbour
+            Aligned::AlongBond => axis(c) == oi,
             Aligned::AlongVelocity => {
                 (vi != 0 && axis(vi) == oi)
                     || (vn != 0 && axis(vn) == oi)
@@ -114,9 +117,9 @@ fn energy(p: &EnergyParams, s: usize, nb: &[Nb; 6], d: f64) -> f64 {
     } else {
         0.0
     };
-    for n in nb {
+    for (k, n) in nb.iter().enumerate() {
         if let Nb::Grain(sn) = n {
-            e += pair_energy(p, s, *sn, d);
+            e += pair_energy(p, s, *sn, k + 1, d);
         }
     }
     e
@@ -238,29 +241,26 @@ fn probe_params(energy: EnergyParams) -> HopperParams {
 }
 
 fn energy_checks(b: &dyn HopperBuilder, ck: &mut Checker, seed: u64) -> Result<()> {
-    // the default reading (whatever `EnergyParams::default` holds), the
-    // other reading of "aligned" named explicitly, and other parameters
+    // the default reading (whatever `EnergyParams::default` holds), every
+    // other reading of "aligned" (`Aligned::ALL`), and other parameters
     let default = EnergyParams::default();
-    let variants = [
-        default,
-        EnergyParams {
-            aligned: match default.aligned {
-                Aligned::SameOrientation => Aligned::AlongVelocity,
-                Aligned::AlongVelocity => Aligned::SameOrientation,
-            },
-            ..default
-        },
-        EnergyParams {
-            delta: 2.0,
-            c: 0.3,
-            s: 0.1,
-            alpha: 2.0,
-            beta: 0.5,
-            gamma: 1.5,
-            aligned: Aligned::AlongVelocity,
-            ..EnergyParams::default()
-        },
-    ];
+    let mut variants = vec![default];
+    variants.extend(
+        Aligned::ALL
+            .iter()
+            .filter(|&&a| a != default.aligned)
+            .map(|&aligned| EnergyParams { aligned, ..default }),
+    );
+    variants.extend([EnergyParams {
+        delta: 2.0,
+        c: 0.3,
+        s: 0.1,
+        alpha: 2.0,
+        beta: 0.5,
+        gamma: 1.5,
+        aligned: Aligned::AlongVelocity,
+        ..EnergyParams::default()
+    }]);
     for (vi, p) in variants.iter().enumerate() {
         let mut e = b.build(probe_params(*p), derive_seed(seed, vi as u64))?;
         let g = e.geometry().clone();
@@ -479,7 +479,7 @@ fn conflict_checks(b: &dyn HopperBuilder, ck: &mut Checker, seed: u64) -> Result
                 for (c, n) in nb.iter().enumerate() {
                     if let Nb::Grain(sn) = n {
                         let d = 0.5 * (e.spacing()[i] + e.spacing()[g.nbr[i][c] as usize]);
-                        en += pair_energy(&p, s, *sn, d);
+                        en += pair_energy(&p, s, *sn, c + 1, d);
                     }
                 }
                 if en < out.1 {
@@ -592,8 +592,8 @@ pub struct HopperScene {
 }
 
 /// The hopper scenes at `tier`: BB90 Fig. 2 at beta = 0 and beta = 1
-/// (the default reading of "aligned", `EnergyParams::default`: same
-/// orientation) in the quick-tier container of MODEL.md B2 (100 x 75
+/// (the default reading of "aligned", `EnergyParams::default`: along the
+/// bond) in the quick-tier container of MODEL.md B2 (100 x 75
 /// sites), filled to 70%; 300 iterations of outflow recorded (standard and
 /// paper: 600).
 pub fn hopper_scenes(tier: Tier) -> Vec<HopperScene> {
@@ -746,23 +746,40 @@ mod tests {
             aligned: Aligned::AlongVelocity,
             ..EnergyParams::default()
         };
-        // a vertical grain falling next to a resting vertical grain, d = 1:
-        // aligned along its velocity, 1.1^3 * 0.01
-        let e = pair_energy(&literal, state(0, 4), state(0, 0), 1.0);
+        // a vertical grain falling next to a resting vertical grain at its
+        // side (direction 2), d = 1: aligned along its velocity, 1.1^3 * 0.01
+        let e = pair_energy(&literal, state(0, 4), state(0, 0), 2, 1.0);
         assert!(close(e, 1.1f64.powi(3) * 0.01));
         // dilated pair: F_dilation = 0.2
-        let e = pair_energy(&literal, state(1, 0), state(2, 0), 1.3);
+        let e = pair_energy(&literal, state(1, 0), state(2, 0), 2, 1.3);
         assert!(close(e, 0.1f64.powi(3) * 0.04));
         // two resting vertical grains, d = 1: not aligned in the literal
-        // reading (no velocity), aligned in the default (same orientation)
-        let e = pair_energy(&literal, state(0, 0), state(0, 0), 1.0);
+        // reading (no velocity), aligned in the same-orientation reading
+        let e = pair_energy(&literal, state(0, 0), state(0, 0), 2, 1.0);
         assert!(close(e, 0.1f64.powi(3)));
-        let p = EnergyParams::default();
-        assert_eq!(p.aligned, Aligned::SameOrientation);
-        let e = pair_energy(&p, state(0, 0), state(0, 0), 1.0);
+        let p = EnergyParams {
+            aligned: Aligned::SameOrientation,
+            ..EnergyParams::default()
+        };
+        let e = pair_energy(&p, state(0, 0), state(0, 0), 2, 1.0);
         assert!(close(e, 0.1f64.powi(3) * 0.01));
-        // the falling grain of the first case: aligned in both readings
-        let e = pair_energy(&p, state(0, 4), state(0, 0), 1.0);
+        // along-bond (the default): the resting vertical pair is aligned
+        // one above the other (direction 1 or 4), not side by side
+        let bond = EnergyParams::default();
+        assert_eq!(bond.aligned, Aligned::AlongBond);
+        let e = pair_energy(&bond, state(0, 0), state(0, 0), 4, 1.0);
+        assert!(close(e, 0.1f64.powi(3) * 0.01));
+        let e = pair_energy(&bond, state(0, 0), state(0, 0), 2, 1.0);
+        assert!(close(e, 0.1f64.powi(3)));
+        // -60° grains along direction 3 (down-left), d = 1.1: 1e-5 / 1.21
+        let e = pair_energy(&bond, state(2, 0), state(2, 0), 3, 1.1);
+        assert!(close(e, 1e-5 / 1.21));
+        // the falling grain of the first case: aligned in the literal and
+        // same-orientation readings, not along the bond (its neighbour is
+        // beside it)
+        let e = pair_energy(&bond, state(0, 4), state(0, 0), 2, 1.0);
+        assert!(close(e, 1.1f64.powi(3)));
+        let e = pair_energy(&p, state(0, 4), state(0, 0), 2, 1.0);
         assert!(close(e, 1.1f64.powi(3) * 0.01));
     }
 }

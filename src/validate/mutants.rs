@@ -3,7 +3,7 @@
 //! table of EXPERIMENTS.md says which level catches which, at what cost.
 
 use crate::error::{Error, ErrorKind, Result};
-use crate::hopper::energy::{aligned, f_shear, motion, EnergyTable, STATES};
+use crate::hopper::energy::{aligned, f_shear, motion, pair_index, EnergyTable, STATES};
 use crate::hopper::engine::{self as hopper_engine, HopperBuilder, HopperEngine};
 use crate::hopper::{Hopper, HopperParams};
 use crate::pipe::collision::{CollisionTable, Rule};
@@ -181,11 +181,18 @@ impl EngineBuilder for Mutant {
 fn beta_flipped(params: &HopperParams) -> Result<EnergyTable> {
     let p = params.energy;
     let mut t = EnergyTable::new(p)?;
-    for si in 0..STATES {
-        for sn in 0..STATES {
-            let orient = if aligned(si, sn, p.aligned) { p.s } else { 1.0 };
-            t.pair[si * STATES + sn] =
-                f_shear(motion(si), motion(sn)).powf(p.alpha) * orient.powf(-p.beta);
+    for a in 0..3 {
+        for si in 0..STATES {
+            for sn in 0..STATES {
+                // direction a + 1 lies along bond axis a
+                let orient = if aligned(si, sn, a + 1, p.aligned) {
+                    p.s
+                } else {
+                    1.0
+                };
+                t.pair[pair_index(a, si, sn)] =
+                    f_shear(motion(si), motion(sn)).powf(p.alpha) * orient.powf(-p.beta);
+            }
         }
     }
     Ok(t)
