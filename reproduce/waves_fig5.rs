@@ -48,7 +48,6 @@ const BIN: usize = FIG5_BIN;
 /// Runs with travelling bands: s_low above this (as fig1's threshold).
 const WAVE_RUN: f64 = 2.0;
 
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, c) = args.wave.start("waves-fig5", "PH95 Fig. 5")?;

@@ -358,7 +358,10 @@ mod tests {
         use Verdict::*;
         assert_eq!(all_of([Reproduced, Reproduced]), Reproduced);
         assert_eq!(all_of([Reproduced, Undecided]), Undecided);
-        assert_eq!(all_of([Undecided, NotReproduced, Reproduced]), NotReproduced);
+        assert_eq!(
+            all_of([Undecided, NotReproduced, Reproduced]),
+            NotReproduced
+        );
         assert_eq!(all_of([]), Undecided);
     }
 

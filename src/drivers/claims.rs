@@ -17,8 +17,7 @@ use super::open_pipe::{
 };
 use super::spectra::tier_setup;
 use super::sweep::{
-    alpha_check, reduce, same_as_check, sweep_run, PointResult, Quantity, SweepPoint,
-    V_SAME_MARGIN,
+    alpha_check, reduce, same_as_check, sweep_run, PointResult, Quantity, SweepPoint, V_SAME_MARGIN,
 };
 use crate::analysis::relaxation::{fig3_checks, Saturation};
 use crate::analysis::spectrum::{SpectrumParams, Window};
@@ -698,7 +697,11 @@ fn relaxation_group(
     let tf: Vec<f64> = times.iter().map(|&t| t as f64).collect();
     let cs: Vec<Vec<f64>> = runs.iter().map(|r| r.contrast.clone()).collect();
     let es: Vec<Vec<f64>> = runs.iter().map(|r| r.energy_loss.clone()).collect();
-    let checks = fig3_checks(&Saturation::of(&cs, &tf), &Saturation::of(&es, &tf), runs.len());
+    let checks = fig3_checks(
+        &Saturation::of(&cs, &tf),
+        &Saturation::of(&es, &tf),
+        runs.len(),
+    );
     push_named(
         out,
         &checks,
@@ -741,7 +744,10 @@ fn profile_group(
         .collect::<Result<Vec<ProfileRun>>>()?;
         per_l.push((l, runs));
     }
-    let steep: Vec<Check> = per_l.iter().map(|(l, r)| steep_front_check(*l, r)).collect();
+    let steep: Vec<Check> = per_l
+        .iter()
+        .map(|(l, r)| steep_front_check(*l, r))
+        .collect();
     out.push(from_checks("steep_front", &steep));
     let (first, last) = (&per_l[0], &per_l[per_l.len() - 1]);
     let width = width_grows_check((first.0, &first.1), (last.0, &last.1));
@@ -800,7 +806,10 @@ fn fig11_group(
     })
     .into_iter()
     .collect::<Result<Vec<_>>>()?;
-    out.push(from_checks("flows_fig11", &[flows_check(&runs, FIG11_STEPS)]));
+    out.push(from_checks(
+        "flows_fig11",
+        &[flows_check(&runs, FIG11_STEPS)],
+    ));
     let speed = corr_speed(&runs, &FIG11_CORR, params.bin);
     out.push(from_checks(
         "v_fig11",
@@ -843,17 +852,15 @@ fn fig12_group(
     out: &mut Vec<Graded>,
 ) -> Result<()> {
     let runs = seeds.len();
-    let pipe = |l, w, g| (model.tweak)(Params { g, ..fig12_pipe(l, w, 0.0) });
-    let main = bisect(model, size, pipe(220, 11, 0.5), seeds, tick)?;
-    let undecided = |id: &str, why: &str| {
-        graded(
-            id,
-            f64::NAN,
-            f64::NAN,
-            Verdict::Undecided,
-            why.to_string(),
-        )
+    let pipe = |l, w, g| {
+        (model.tweak)(Params {
+            g,
+            ..fig12_pipe(l, w, 0.0)
+        })
     };
+    let main = bisect(model, size, pipe(220, 11, 0.5), seeds, tick)?;
+    let undecided =
+        |id: &str, why: &str| graded(id, f64::NAN, f64::NAN, Verdict::Undecided, why.to_string());
     let (i_c, err) = match main {
         Ok(x) => x,
         Err(why) => {
@@ -904,8 +911,22 @@ fn fig12_group(
     };
     let i_lo = i_c - err;
     let spec_seeds: Vec<u64> = seeds.iter().copied().take(size.runs).collect();
-    let near = spectrum_point(model, size, &format!("I{i_lo:.4}"), at(i_lo), &spec_seeds, tick)?;
-    let half = spectrum_point(model, size, &format!("I{:.4}", 0.5 * i_c), at(0.5 * i_c), &spec_seeds, tick)?;
+    let near = spectrum_point(
+        model,
+        size,
+        &format!("I{i_lo:.4}"),
+        at(i_lo),
+        &spec_seeds,
+        tick,
+    )?;
+    let half = spectrum_point(
+        model,
+        size,
+        &format!("I{:.4}", 0.5 * i_c),
+        at(0.5 * i_c),
+        &spec_seeds,
+        tick,
+    )?;
     out.push(from_checks(
         "one_over_f_ic",
         &[alpha_check(
@@ -927,7 +948,14 @@ fn fig12_group(
         )],
     ));
     let steps = size.spectrum_tier.pick(20_000, 50_000, 100_000);
-    let (s, _) = trend_test(at(CLOG_INJECT), model.rules, model.engine, seeds, steps, tick)?;
+    let (s, _) = trend_test(
+        at(CLOG_INJECT),
+        model.rules,
+        model.engine,
+        seeds,
+        steps,
+        tick,
+    )?;
     out.push(from_checks("clogs_054", &[clogs_check(&s, CLOG_INJECT)]));
     Ok(())
 }
@@ -973,14 +1001,17 @@ pub fn site_updates(size: MatrixSize) -> f64 {
     let fig4 = Steady::ph95(tier, tier.pick(512, 2048, 2048), FIELDS_EVERY).steps() as f64;
     let fig5 = Steady::ph95(tier, tier.pick(1024, 2048, 2048), FIELDS_EVERY).steps() as f64;
     let trend = tier.pick(20_000, 50_000, 100_000) as f64;
-    let (r, w, o) = (size.runs as f64, size.wave_runs as f64, size.open_runs as f64);
+    let (r, w, o) = (
+        size.runs as f64,
+        size.wave_runs as f64,
+        size.open_runs as f64,
+    );
     let b = (2 + size.bisections) as f64;
     let band = 9.0 * size.band_steps as f64 * 24200.0;
     let spectra = 6.0 * spec_steps * 2420.0;
     let waves = relax as f64 * 2816.0 + fig4 * 11.0 * 1920.0 + fig5 * 5632.0;
-    let open = FIG11_STEPS as f64 * 5000.0
-        + b * trend * (2420.0 * 2.0 + 1100.0 + 4840.0)
-        + trend * 2420.0;
+    let open =
+        FIG11_STEPS as f64 * 5000.0 + b * trend * (2420.0 * 2.0 + 1100.0 + 4840.0) + trend * 2420.0;
     r * (band + spectra) + w * waves + o * open + r.min(o) * 2.0 * spec_steps * 2420.0
 }
 

@@ -21,10 +21,10 @@
 use super::observables::s_low;
 use super::Params;
 use crate::analysis::fit::linear_fit;
+use crate::analysis::grading::{Claim, Estimate};
 use crate::analysis::spectrum::SpectrumParams;
 use crate::analysis::waves::spectral_speed;
 use crate::error::Result;
-use crate::analysis::grading::{Claim, Estimate};
 use crate::run::{Check, NamedMeasure};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
