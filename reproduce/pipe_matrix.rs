@@ -1,5 +1,7 @@
-//! The reproduction matrix (issue 4): every rule reading graded against every
-//! published claim of the pipe papers (MODEL.md A10), with the measured value
+//! The reproduction matrix (issue 4, extended in issue 14): every rule
+//! reading graded against every published claim of the pipe papers (PH94
+//! Figs. 1-2, PH95 Figs. 3-8, 11-12; `drivers::claims::CLAIMS` lists each
+//! with its published value, statistic and margin), with the measured value
 //! and its error beside each grade. Each finished reading is saved at once
 //! (`variants/<reading>.json`) and reused when the same command is run again.
 //!
@@ -9,7 +11,7 @@ use clap::Parser;
 use granular_automata::analysis::grading::Kind;
 use granular_automata::cli::Common;
 use granular_automata::drivers::claims::{
-    grade, grade_steps, Graded, MatrixSize, Verdict, CLAIMS, GRADING_VERSION,
+    grade, grade_steps, site_updates, Graded, MatrixSize, Verdict, CLAIMS, GRADING_VERSION,
 };
 use granular_automata::pipe::engine::Engine;
 use granular_automata::pipe::Rules;
@@ -50,22 +52,13 @@ fn value(g: &Graded) -> String {
     }
 }
 
-/// Site updates of one reading: 9 band runs of 2200 x 11 sites, 4 spectra of
-/// 220 x 11 sites, per run.
-fn site_updates(size: MatrixSize) -> f64 {
-    let band = 9.0 * size.band_steps as f64 * 24200.0;
-    let spectra =
-        (grade_steps(size) as f64 / size.runs as f64 - 9.0 * size.band_steps as f64) * 2420.0;
-    size.runs as f64 * (band + spectra)
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     args.common.reject_shard("pipe-matrix")?;
     let tier = args.common.tier;
     let mut size = MatrixSize::for_tier(tier);
     if let Some(r) = args.common.runs {
-        size.runs = r; // 1..=MAX_RUNS, checked when parsed
+        size = size.with_runs(r); // 1..=MAX_RUNS, checked when parsed
     }
     let readings: Vec<Rules> = args
         .readings
@@ -80,7 +73,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "{}-seed{}-runs{}-grading{GRADING_VERSION}{}",
         tier.name(),
         args.common.seed,
-        size.runs,
+        size.runs_key(),
         match engine {
             Engine::Reference => String::new(),
             other => format!("-{other}"),
@@ -112,31 +105,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     pb.finish();
     let wall = start.elapsed().as_secs_f64();
 
-    // tables
+    // tables: one row per claim, one column per reading
     let mut md = format!(
-        "# Reproduction matrix ({} tier, {} runs per set-up, seed {})\n\n| reading | {} | reproduced |\n|---|{}---|\n",
+        "# Reproduction matrix ({} tier, runs per set-up {} (bands and spectra - PH95 Figs. 3-5 - open pipe), seed {})\n\n| claim | {} |\n|---|{}\n",
         tier.name(),
-        size.runs,
+        size.runs_key(),
         args.common.seed,
-        CLAIMS.iter().map(|c| c.0).collect::<Vec<_>>().join(" | "),
-        "---|".repeat(CLAIMS.len())
+        rows.iter().map(|(r, _)| format!("`{r}`")).collect::<Vec<_>>().join(" | "),
+        "---|".repeat(rows.len())
     );
     let mut csv = vec![];
     let mut metrics = BTreeMap::new();
-    for (rules, graded) in &rows {
-        let cells: Vec<String> = graded
+    for (k, (id, _)) in CLAIMS.iter().enumerate() {
+        let cells: Vec<String> = rows
             .iter()
-            .map(|g| format!("{} {}", g.verdict.label(), value(g)))
+            .map(|(_, graded)| {
+                let g = &graded[k];
+                format!("{} {}", g.verdict.label(), value(g))
+            })
             .collect();
+        md.push_str(&format!("| `{id}` | {} |\n", cells.join(" | ")));
+    }
+    let mut totals = Vec::new();
+    for (rules, graded) in &rows {
         let n = graded
             .iter()
             .filter(|g| g.verdict == Verdict::Reproduced)
             .count();
-        md.push_str(&format!(
-            "| `{rules}` | {} | {n}/{} |\n",
-            cells.join(" | "),
-            graded.len()
-        ));
+        totals.push(format!("{n}/{}", graded.len()));
         metrics.insert(format!("{rules}.reproduced"), n as f64);
         for g in graded {
             metrics.insert(format!("{rules}.{}", g.claim), g.measured);
@@ -151,6 +147,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ));
         }
     }
+    md.push_str(&format!("| reproduced | {} |\n", totals.join(" | ")));
     md.push_str("\nCells: verdict (yes = reproduced, no = not reproduced, ? = undecided), measured value +- standard error over runs.\n\nClaims:\n\n");
     for (id, what) in CLAIMS {
         md.push_str(&format!("- `{id}`: {what}\n"));
@@ -280,14 +277,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let summary_path = out.finish(&Summary {
         figure: "pipe-matrix".into(),
-        paper: "PH94 Figs. 1-2, PH95 Figs. 6-7 (MODEL.md A10)".into(),
+        paper: "PH94 Figs. 1-2, PH95 Figs. 3-8, 11-12".into(),
         tier,
         seeds: vec![args.common.seed],
         params: json!({"size": size, "readings": readings.iter().map(|r| r.to_string()).collect::<Vec<_>>()}),
         rules: args.readings.clone(),
         engine: engine.to_string(),
         wall_seconds: wall,
-        // band runs at 2200 x 11 sites, spectra at 220 x 11 (grade_steps counts both)
+        // nominal: runs that clog stop early
         site_updates: site_updates(size) * readings.len() as f64,
         metrics,
         missing_metrics: Default::default(),
@@ -314,7 +311,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "{}",
         std::fs::read_to_string(out.path("matrix.md"))?
             .lines()
-            .take(3 + rows.len())
+            .take(5 + CLAIMS.len())
             .collect::<Vec<_>>()
             .join("\n")
     );

@@ -11,16 +11,18 @@
 //! `cargo run --release --bin waves-fig11 -- --tier quick`
 
 use clap::Parser;
-use granular_automata::analysis::grading::{Claim, Estimate, Kind};
+use granular_automata::analysis::grading::Kind;
 use granular_automata::cli::PipeArgs;
+use granular_automata::drivers::open_pipe::{
+    corr_run, corr_speed, fig11_pipe, fig11_speed_check, flows_check, CorrRun, FIG11_CORR,
+    FIG11_INJECT,
+};
 use granular_automata::ensemble::Outcome;
-use granular_automata::pipe::open::{correlation, open_run, peak_index, OpenRecord};
-use granular_automata::pipe::{Boundary, Params};
+use granular_automata::pipe::open::{open_run, peak_index, OpenRecord};
 use granular_automata::plot::{line_chart, plot_err, register_fonts, Line, SpaceTime, PALETTE};
 use granular_automata::run::{derive_seed, mean_sem, Check, Output, Summary};
 use granular_automata::Error;
 use plotters::prelude::*;
-use serde::{Deserialize, Serialize};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -42,29 +44,14 @@ struct Args {
 }
 
 /// The published injection rate.
-const I_PAPER: f64 = 0.5;
+const I_PAPER: f64 = FIG11_INJECT;
 /// The rate at which the correlation is measured (stationary, below I_c).
 const I_CORR: f64 = 0.3;
-/// R in bins.
-const R: isize = 30;
-/// Correlation samples every EVERY steps, from step SKIP on (the filling
-/// transient of a 1000-row pipe is ~1000-2000 steps), T up to T_MAX samples.
-const EVERY: u64 = 10;
-const SKIP: usize = 1000;
-const T_MAX: usize = 300;
-
-/// What one run keeps.
-#[derive(Serialize, Deserialize)]
-struct CorrRun {
-    /// C(+R, T): bin i+R above bin i (a signal moving up, against gravity).
-    up: Vec<f64>,
-    /// C(-R, T): a signal moving down.
-    down: Vec<f64>,
-    /// N(t) every EVERY steps.
-    total: Vec<f64>,
-    bookkeeping_errors: u64,
-    stopped_at: Option<u64>,
-}
+/// R in bins, sampling of C(R, T) (shared with the reproduction matrix).
+const R: isize = FIG11_CORR.r;
+const EVERY: u64 = FIG11_CORR.every;
+const SKIP: usize = FIG11_CORR.skip;
+const T_MAX: usize = FIG11_CORR.t_max;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
@@ -81,19 +68,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     } else {
         &[I_PAPER, I_CORR]
     };
-    let base = Params {
-        length: 1000,
-        width: 5,
-        p: 0.5,
-        b: 0.5,
-        g: 0.2,
-        bin: 10,
-        ..Params::default()
-    };
-    let at = |inject: f64| Params {
-        boundary: Boundary::Open { inject },
-        ..base
-    };
+    let base = fig11_pipe(I_PAPER);
+    let at = fig11_pipe;
     let runs = c.runs_or(4, 8, 32);
     let start = Instant::now();
     let mut results = Vec::new();
@@ -101,24 +77,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let key = json!({"open-correlation": at(inject), "steps": steps, "every": EVERY, "skip": SKIP, "t_max": T_MAX, "r": R, "rules": rules.to_string(), "engine": engine});
         let ens = c.ensemble("waves-fig11", &key, runs)?;
         let out = ens.run(steps, |_, seed, tick| {
-            let rec = open_run(at(inject), rules, engine, seed, steps, EVERY, true, tick)?;
-            let ok = rec.stopped.is_none();
-            let win = if ok { &rec.n[SKIP..] } else { &rec.n[..0] };
-            Ok(CorrRun {
-                up: if ok {
-                    correlation(win, R, T_MAX)?
-                } else {
-                    vec![]
-                },
-                down: if ok {
-                    correlation(win, -R, T_MAX)?
-                } else {
-                    vec![]
-                },
-                total: rec.total.clone(),
-                bookkeeping_errors: rec.bookkeeping_errors,
-                stopped_at: rec.stopped.map(|s| s.0),
-            })
+            corr_run(at(inject), rules, engine, seed, steps, &FIG11_CORR, tick)
         })?;
         match out {
             Outcome::Complete(v) => results.push(v),
@@ -183,31 +142,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     // (b) the correlation at I_CORR
     let corr = results.last().expect("the correlation rate ran");
-    let valid: Vec<&CorrRun> = corr.iter().filter(|r| r.stopped_at.is_none()).collect();
-    let mean_curve = |f: &dyn Fn(&CorrRun) -> &Vec<f64>| -> Vec<f64> {
-        (0..=T_MAX)
-            .map(|t| valid.iter().map(|r| f(r)[t]).sum::<f64>() / valid.len().max(1) as f64)
-            .collect()
-    };
-    let up = mean_curve(&|r| &r.up);
-    let down = mean_curve(&|r| &r.down);
-    let prominence = |c: &[f64]| {
-        let mut s = c[1..].to_vec();
-        s.sort_by(|a, b| a.total_cmp(b));
-        c[peak_index(c, 1).unwrap_or(1)] - s[s.len() / 2]
-    };
-    let upward = prominence(&up) >= prominence(&down);
-    let (main, dir) = if upward { (&up, "up") } else { (&down, "down") };
-    let t_c_samples = peak_index(main, 1).unwrap_or(0);
-    let t_c = (t_c_samples as u64 * EVERY) as f64;
-    let speeds: Vec<f64> = valid
-        .iter()
-        .filter_map(|r| {
-            let c = if upward { &r.up } else { &r.down };
-            peak_index(c, 1).map(|t| (R as f64 * 10.0) / (t as f64 * EVERY as f64))
-        })
-        .collect();
-    let (v_corr, v_corr_err) = mean_sem(&speeds);
+    let cs = corr_speed(corr, &FIG11_CORR, base.bin);
+    let (up, down, upward, t_c_samples, t_c) =
+        (&cs.up, &cs.down, cs.upward, cs.t_c_samples, cs.t_c);
+    let (main, dir) = if upward { (up, "up") } else { (down, "down") };
+    let (v_corr, v_corr_err) = mean_sem(&cs.speeds);
     let rows: Vec<Vec<f64>> = (0..=T_MAX)
         .map(|t| vec![(t as u64 * EVERY) as f64, up[t], down[t]])
         .collect();
@@ -222,19 +161,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &out.path("waves-fig11b.png"),
         &format!(
             "PH95 Fig. 11b: C(R = {R} bins, T), open pipe I = {I_CORR}, g = 0.2, mean of {} runs",
-            valid.len()
+            cs.valid
         ),
         "T (steps)",
         "C(R, T) (fluctuations, per bin pair and sample)",
         &[
             Line::new(
                 &format!("R = +{R}: bin i+R above i (moving up)"),
-                pts(&up),
+                pts(up),
                 PALETTE[0],
             ),
             Line::new(
                 &format!("R = -{R}: bin i+R below i (moving down)"),
-                pts(&down),
+                pts(down),
                 PALETTE[1],
             ),
             Line::new(
@@ -259,14 +198,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     metrics.insert("direction_up".into(), if upward { 1.0 } else { 0.0 });
     metrics.insert(
         "t_c_up".into(),
-        (peak_index(&up, 1).unwrap_or(0) as u64 * EVERY) as f64,
+        (peak_index(up, 1).unwrap_or(0) as u64 * EVERY) as f64,
     );
     metrics.insert(
         "t_c_down".into(),
-        (peak_index(&down, 1).unwrap_or(0) as u64 * EVERY) as f64,
+        (peak_index(down, 1).unwrap_or(0) as u64 * EVERY) as f64,
     );
     metrics.insert("inject_correlation".into(), I_CORR);
-    metrics.insert("valid_runs_correlation".into(), valid.len() as f64);
+    metrics.insert("valid_runs_correlation".into(), cs.valid as f64);
     let mut checks = vec![Check::identity(
         "bookkeeping_exact",
         book as f64,
@@ -281,15 +220,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
         metrics.insert("clog_step_I0.5".into(), clog_step);
         metrics.insert("clog_step_I0.5_err".into(), clog_step_err);
-        let clog_indicator: Vec<f64> = (0..runs)
-            .map(|i| if i < clogged.len() { 1.0 } else { 0.0 })
-            .collect();
-        checks.push(Check::published("paper_setup_flows", "PH95 Fig. 11 (the I = 0.5, g = 0.2 pipe flows)",
-            Estimate::of(&clog_indicator), Claim::Below { threshold: 0.5 },
-            &format!("fraction of runs that fill with rest particles within {steps} steps (clog) below 1/2")));
+        checks.push(flows_check(paper, steps));
+        let ps = corr_speed(paper, &FIG11_CORR, base.bin);
+        metrics.insert("valid_runs_I0.5".into(), ps.valid as f64);
+        checks.push(fig11_speed_check(&ps, paper.len()));
     }
-    checks.push(Check::exact("correlation_peak_inside", Kind::Published, "PH95 Fig. 11 (C(R, T) peaks at T_c = 880)", t_c, t_c_samples > 1 && t_c_samples < T_MAX && valid.len() == corr.len(),
-            &format!("C(R, T) at I = {I_CORR} has its peak strictly inside 0 < T < {} steps, all runs stationary", T_MAX as u64 * EVERY)));
+    checks.push(Check::exact("correlation_peak_inside", Kind::Published, "PH95 Fig. 11 (C(R, T) peaks at T_c = 880)", t_c, t_c_samples > 1 && t_c_samples < T_MAX && cs.valid == corr.len(),
+            &format!("C(R, T) at I = {I_CORR} has its peak strictly inside 0 < T < {} steps, all runs stationary (the published T_c = 880 is at I = 0.5: paper_setup_speed)", T_MAX as u64 * EVERY)).with_published(880.0));
     out.finish(&Summary {
         figure: "waves-fig11".into(),
         paper: "PH95 Fig. 11".into(),

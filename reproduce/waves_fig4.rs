@@ -25,7 +25,8 @@ use granular_automata::analysis::grading::{Claim, Estimate};
 use granular_automata::cli::WaveOptions;
 use granular_automata::pipe::observables::random_start_bin_variance;
 use granular_automata::pipe::overlap::{
-    ensemble_profile, profile_run, ProfileRun, PROFILE_MEASURES,
+    ensemble_profile, profile_run, steep_front_check, width_grows_check, ProfileRun, FIELDS_EVERY,
+    FIG4_BIN, PROFILE_MEASURES,
 };
 use granular_automata::pipe::record::Steady;
 use granular_automata::pipe::Params;
@@ -43,11 +44,11 @@ struct Args {
     lengths: Vec<usize>,
 }
 
-const T0: u64 = 40;
+const T0: u64 = FIELDS_EVERY;
 /// A wave's amplitude must exceed NULL_FACTOR times the white-noise
 /// alignment bias (excess over the bias > the bias itself).
 const NULL_FACTOR: f64 = 2.0;
-const BIN: usize = 4;
+const BIN: usize = FIG4_BIN;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
@@ -130,15 +131,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Claim::Below { threshold },
             &format!("flat within noise: excess below null = {null:.4} (expected for a wave-free reading such as p = 0)"),
         ));
-        steep.push(Check::published(
-            &format!("steep_front_L{l}"),
-            "PH95 Fig. 4 (the downstream front is steeper than the back)",
-            Estimate::new(asy.0, asy.1, res.len()),
-            Claim::Above { threshold: 0.0 },
-            "asymmetry (back - front) / (back + front) of the half-widths > 0",
-        ));
+        steep.push(steep_front_check(l, res));
     }
     checks.extend(steep);
+    if per_l.len() > 1 {
+        let by_l = |(p, _): &&(Params, Vec<ProfileRun>)| p.length;
+        let first = per_l.iter().min_by_key(by_l).expect("lengths");
+        let last = per_l.iter().max_by_key(by_l).expect("lengths");
+        checks.push(width_grows_check(
+            (first.0.length, &first.1),
+            (last.0.length, &last.1),
+        ));
+    }
     out.write_csv(
         "fig4_profiles.csv",
         &["L", "y_minus_peak_rows", "density_over_mean"],

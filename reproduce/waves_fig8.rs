@@ -1,13 +1,18 @@
 //! PH95 Fig. 8: alpha and the wave speed v against the dissipation p
 //! (L = 220, W = 11, rho = 1, b = g = 0.5; spectrum of bin 0 sampled every
-//! 10 steps). Blind reproduction: the published values are not used.
+//! 10 steps). Checks: the published claims of Fig. 8 (alpha about
+//! constant for every p > 0, v independent of p: each point p > 0 against
+//! p = 0.5, shared with the reproduction matrix, `sweep::same_as_check`),
+//! the p = 0 point against waves-fig7, alpha rising from p = 0 to 0.5.
 //!
 //! `cargo run --release --bin waves-fig8 -- --tier quick`
 
 use clap::Parser;
 use granular_automata::cli::PipeArgs;
+use granular_automata::drivers::claims::ALPHA_MARGIN;
 use granular_automata::drivers::sweep::{
-    fig7_check, plot_alpha_v, points_1d, rise_check, Curve, SweepFigure, FIG7_QUICK_ALPHA_P0,
+    fig7_check, plot_alpha_v, points_1d, rise_check, same_as_check, Curve, Quantity, SweepFigure,
+    FIG7_QUICK_ALPHA_P0, V_SAME_MARGIN,
 };
 use granular_automata::pipe::Params;
 use serde_json::json;
@@ -81,7 +86,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
 
     let (r0, r5) = (fig.find("p0"), fig.find("p0.5"));
-    let checks = vec![
+    let mut checks = vec![
         fig7_check(
             "p0_matches_waves_fig7",
             r0,
@@ -90,6 +95,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ),
         rise_check("alpha_rises_with_p", r0, r5, "p = 0", "p = 0.5"),
     ];
+    for (q, margin, source) in [
+        (
+            Quantity::Alpha,
+            ALPHA_MARGIN,
+            "PH95 Fig. 8a (alpha about constant for every p > 0)",
+        ),
+        (
+            Quantity::V,
+            V_SAME_MARGIN,
+            "PH95 Fig. 8b (v does not change with p within the error bars)",
+        ),
+    ] {
+        for r in all
+            .iter()
+            .filter(|r| r.point.x[0] > 0.0 && r.point.x[0] != 0.5)
+        {
+            checks.push(same_as_check(
+                &format!("{}_{}_same_as_p0.5", q.name(), r.point.label),
+                source,
+                q,
+                r,
+                r5,
+                margin,
+            ));
+        }
+    }
     fig.finish(
         json!({"base": base, "p": ps, "setup": fig.setup_of(base)}),
         fig.metrics(),

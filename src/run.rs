@@ -310,6 +310,14 @@ impl Check {
         }
     }
 
+    /// The same check with the paper's value of the quantity in
+    /// `published` (for a threshold or test claim whose published value is
+    /// a number, e.g. T_c = 880 of PH95 Fig. 11).
+    pub fn with_published(mut self, value: f64) -> Self {
+        self.published = Some(value);
+        self
+    }
+
     /// One line for the terminal.
     pub fn line(&self) -> String {
         let target = match (self.claim, self.published) {

@@ -215,6 +215,28 @@ impl Claim {
     }
 }
 
+/// The verdict of a claim made of several parts that must all hold (e.g.
+/// "waves inside the density window and none outside", "alpha the same at
+/// every p > 0"): reproduced when every part is reproduced, not reproduced
+/// when any part is not reproduced, otherwise undecided. An empty list is
+/// undecided.
+pub fn all_of(parts: impl IntoIterator<Item = Verdict>) -> Verdict {
+    let (mut n, mut yes) = (0, 0);
+    for v in parts {
+        n += 1;
+        match v {
+            Verdict::NotReproduced => return Verdict::NotReproduced,
+            Verdict::Reproduced => yes += 1,
+            Verdict::Undecided => {}
+        }
+    }
+    if n > 0 && yes == n {
+        Verdict::Reproduced
+    } else {
+        Verdict::Undecided
+    }
+}
+
 /// Grade `est` against `claim` by the one rule (module docs).
 pub fn grade(est: Estimate, claim: Claim) -> Verdict {
     let Some(h) = est.half_width() else {
@@ -329,6 +351,18 @@ mod tests {
             Verdict::NotReproduced
         );
         assert_eq!(grade(Estimate::new(3.0, 1.0, 50), down), Verdict::Undecided);
+    }
+
+    #[test]
+    fn all_parts_must_hold() {
+        use Verdict::*;
+        assert_eq!(all_of([Reproduced, Reproduced]), Reproduced);
+        assert_eq!(all_of([Reproduced, Undecided]), Undecided);
+        assert_eq!(
+            all_of([Undecided, NotReproduced, Reproduced]),
+            NotReproduced
+        );
+        assert_eq!(all_of([]), Undecided);
     }
 
     #[test]

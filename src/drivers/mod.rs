@@ -1,11 +1,12 @@
 //! The drivers the figure binaries share, one layer above the models: an
 //! ensemble of density spectra ([`spectra`]), a sweep of spectra over a
-//! parameter ([`sweep`]) and the reproduction matrix of the pipe readings
+//! parameter ([`sweep`]), the open pipe's claims ([`open_pipe`]) and the reproduction matrix of the pipe readings
 //! ([`claims`]). They run the models, grade the claims and may read the
 //! command-line options ([`crate::cli`]); the models ([`crate::pipe`],
 //! [`crate::hopper`]) and the analysis ([`crate::analysis`]) never import this
 //! layer or the CLI.
 
 pub mod claims;
+pub mod open_pipe;
 pub mod spectra;
 pub mod sweep;

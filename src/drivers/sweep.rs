@@ -385,6 +385,66 @@ pub fn fig7_check(
     )
 }
 
+/// Margin Delta of "the wave speed does not change with p" (PH95 Fig.
+/// 8b, "within the error bars"): the published error bar of the wave speed,
+/// 0.05 (PH95 Fig. 5).
+pub const V_SAME_MARGIN: f64 = crate::pipe::overlap::SPEED_MARGIN;
+
+/// A published claim "`q` at point `r` equals `q` at `reference`" (PH95
+/// Fig. 8: alpha constant for every p > 0, v independent of p): the
+/// difference of the two points (SEs in quadrature) within `margin` of 0.
+pub fn same_as_check(
+    name: &str,
+    source: &str,
+    q: Quantity,
+    r: &PointResult,
+    reference: &PointResult,
+    margin: f64,
+) -> crate::run::Check {
+    let est = |p: &PointResult| match q {
+        Quantity::Alpha => p.alpha_estimate(),
+        Quantity::V => p.v_estimate(),
+    };
+    crate::run::Check::published(
+        name,
+        source,
+        est(r).minus(est(reference)),
+        Claim::Within {
+            target: 0.0,
+            margin,
+        },
+        &format!(
+            "{}({}) - {}({}) within Delta = {margin} of 0 (per-run values, SEs combined)",
+            q.name(),
+            r.point.label,
+            q.name(),
+            reference.point.label
+        ),
+    )
+}
+
+/// A published value of alpha at a point: the per-run alpha of its valid
+/// runs within `margin` of `target` (e.g. PH95 Fig. 12: 1/f at I_c, alpha =
+/// 1; white elsewhere, alpha = 0).
+pub fn alpha_check(
+    name: &str,
+    source: &str,
+    r: &PointResult,
+    target: f64,
+    margin: f64,
+) -> crate::run::Check {
+    crate::run::Check::published(
+        name,
+        source,
+        r.alpha_estimate(),
+        Claim::Within { target, margin },
+        &format!(
+            "alpha at {} over {} valid runs ({} invalid) within Delta = {margin} of {target}",
+            r.point.label, r.valid, r.invalid
+        ),
+    )
+}
+
 /// The points of a one-parameter sweep: for each value v, the label
 /// `<name><v>` (e.g. `p0.05`), x = `[v]` and the pipe `set(v)`.
 pub fn points_1d(name: &str, values: &[f64], set: impl Fn(f64) -> Params) -> Vec<SweepPoint> {

@@ -21,10 +21,11 @@
 use super::observables::s_low;
 use super::Params;
 use crate::analysis::fit::linear_fit;
+use crate::analysis::grading::{Claim, Estimate};
 use crate::analysis::spectrum::SpectrumParams;
 use crate::analysis::waves::spectral_speed;
 use crate::error::Result;
-use crate::run::NamedMeasure;
+use crate::run::{Check, NamedMeasure};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
@@ -405,6 +406,71 @@ pub fn ensemble_profile(runs: &[ProfileRun], rows_per_bin: usize) -> Vec<(f64, f
             (y as f64, prof[i] / mean)
         })
         .collect()
+}
+
+/// Steps between the fields of PH95 Figs. 4 and 5 (T0, a choice: the
+/// paper records every step).
+pub const FIELDS_EVERY: u64 = 40;
+/// Rows per bin of PH95 Fig. 4 (the lengths are powers of two; finer bins
+/// resolve the front).
+pub const FIG4_BIN: usize = 4;
+/// Rows per bin of PH95 Fig. 5 (512 is not a multiple of 10).
+pub const FIG5_BIN: usize = 8;
+/// Lags 1..=FIG5_MAX_LAG of the real-space speed of PH95 Fig. 5.
+pub const FIG5_MAX_LAG: usize = 20;
+
+/// Margin Delta of the wave-speed claims: the published error bar of the
+/// wave speed (PH95 Fig. 5: 0.36 +- 0.05), fixed in session 4.
+pub const SPEED_MARGIN: f64 = 0.05;
+
+/// PH95 Fig. 4, "the wave front is steeper than the back side" at pipe
+/// length `l`: the per-run asymmetry (back - front) / (back + front) of the
+/// half-widths above 0 (used by `waves-fig4` and the reproduction matrix).
+pub fn steep_front_check(l: usize, runs: &[ProfileRun]) -> Check {
+    let a: Vec<f64> = runs.iter().map(|r| r.shape.asymmetry).collect();
+    Check::published(
+        &format!("steep_front_L{l}"),
+        "PH95 Fig. 4 (the downstream front is steeper than the back)",
+        Estimate::of(&a),
+        Claim::Above { threshold: 0.0 },
+        "asymmetry (back - front) / (back + front) of the half-widths > 0",
+    )
+}
+
+/// PH95 Fig. 4, "the width of the wave grows with the pipe length (almost
+/// linearly)": the mean width at half the excess maximum at the longest
+/// pipe minus that at the shortest, each over its runs (SEs in
+/// quadrature), above 0. `short` and `long` are (L, runs).
+pub fn width_grows_check(short: (usize, &[ProfileRun]), long: (usize, &[ProfileRun])) -> Check {
+    let w = |r: &[ProfileRun]| Estimate::of(&r.iter().map(|r| r.shape.width).collect::<Vec<_>>());
+    Check::published(
+        "width_grows_with_l",
+        "PH95 Fig. 4 (the width of the wave grows with L, almost linearly)",
+        w(long.1).minus(w(short.1)),
+        Claim::Above { threshold: 0.0 },
+        &format!(
+            "width (rows, at half the excess maximum) at L = {} minus that at L = {} > 0",
+            long.0, short.0
+        ),
+    )
+}
+
+/// PH95 Fig. 5, v = 0.36 +- 0.05 at L = 512: the mean over runs of the
+/// |real-space speed| (slope of the shift of maximal overlap against the
+/// interval) within [`SPEED_MARGIN`] of 0.36 (used by `waves-fig5` and the
+/// reproduction matrix).
+pub fn wave_speed_check(runs: &[SpeedRun]) -> Check {
+    let v: Vec<f64> = runs.iter().map(|r| r.speed.abs()).collect();
+    Check::published(
+        "wave_speed",
+        "PH95 Fig. 5 (v = 0.36 +- 0.05 at L = 512)",
+        Estimate::of(&v),
+        Claim::Within {
+            target: 0.36,
+            margin: SPEED_MARGIN,
+        },
+        &format!("|real-space speed| (slope of the shift of maximal overlap) over all runs; margin Delta = {SPEED_MARGIN}, the published error bar"),
+    )
 }
 
 #[cfg(test)]

@@ -244,6 +244,17 @@ impl Steady {
     }
 }
 
+/// Steps sampled one by one at the start of a PH95 Fig. 3 run, so the fast
+/// energy loss (half-time of tens of steps) is resolved at every tier.
+pub const RELAXATION_EARLY: u64 = 400;
+
+/// Steps per run and sampling interval of PH95 Fig. 3 at `tier` (20000,
+/// 50000, 100000 steps; every 20, 50, 100 steps after the first
+/// [`RELAXATION_EARLY`]).
+pub fn relaxation_schedule(tier: Tier) -> (u64, u64) {
+    (tier.pick(20_000, 50_000, 100_000), tier.pick(20, 50, 100))
+}
+
 /// Sample times of [`relaxation`]: every step up to `early` (the fast
 /// energy loss, with a half-time of tens of steps), then every `every`
 /// steps up to `steps`.
