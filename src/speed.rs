@@ -190,24 +190,7 @@ fn read_summary(dir: &Path, figure: &str) -> Option<Value> {
 /// statistic has a finite value and error.
 pub fn point(key: &Key, s: &Value) -> Option<Point> {
     let cpu = s["cpu_seconds"].as_f64()?;
-    let (measured, se, runs) = match key.source {
-        Source::Check(name) => {
-            let c = s["checks"]
-                .as_array()?
-                .iter()
-                .find(|c| c["name"].as_str() == Some(name))?;
-            (
-                c["measured"].as_f64()?,
-                c["error"].as_f64()?,
-                c["runs"].as_u64()? as usize,
-            )
-        }
-        Source::Metric(name) => (
-            s["metrics"][name].as_f64()?,
-            s["metrics"][format!("{name}_err")].as_f64()?,
-            s["seeds"].as_array()?.len(),
-        ),
-    };
+    let (measured, se, runs) = statistic(key, s)?;
     // fewer than 3 runs have no k (the one rule: undecided): no point
     let half = Estimate::new(measured, se, runs).half_width()?;
     let k = coverage_factor(runs)?;
@@ -228,6 +211,29 @@ pub fn point(key: &Key, s: &Value) -> Option<Point> {
         resolution,
         cpu_to_resolve: cpu * (resolution / 0.5).powi(2),
     })
+}
+
+/// `key`'s statistic in summary `s`: (value, standard error, runs).
+fn statistic(key: &Key, s: &Value) -> Option<(f64, f64, usize)> {
+    let (measured, se, runs) = match key.source {
+        Source::Check(name) => {
+            let c = s["checks"]
+                .as_array()?
+                .iter()
+                .find(|c| c["name"].as_str() == Some(name))?;
+            (
+                c["measured"].as_f64()?,
+                c["error"].as_f64()?,
+                c["runs"].as_u64()? as usize,
+            )
+        }
+        Source::Metric(name) => (
+            s["metrics"][name].as_f64()?,
+            s["metrics"][format!("{name}_err")].as_f64()?,
+            s["seeds"].as_array()?.len(),
+        ),
+    };
+    Some((measured, se, runs))
 }
 
 /// Run (or read) every configuration of `plan` and return its points, in
@@ -252,6 +258,15 @@ pub fn measure(plan: &Plan) -> Result<Vec<Point>> {
                     Some(s) => s,
                     None => run_one(plan, key, tier, engine, &dir)?,
                 };
+                if let Some((_, _, runs @ 0..3)) = statistic(key, &summary) {
+                    println!(
+                        "{:12} {:8} {:9} {runs} runs: fewer than 3, no error bar by the one grading rule; left out",
+                        key.figure,
+                        tier.name(),
+                        engine
+                    );
+                    continue;
+                }
                 let p = point(key, &summary).ok_or_else(|| {
                     Error::new(
                         ErrorKind::Io,
