@@ -93,11 +93,11 @@ pub const KEYS: [Key; 5] = [
     },
     Key {
         figure: "hopper-fig3",
-        source: Source::Check("beta1_same_white_spectrum"),
-        what: "BB90 Fig. 3: slope of the outflow spectrum (beta = 1), margin 0.1",
+        source: Source::Check("beta1_bond_white_spectrum"),
+        what: "BB90 Fig. 3: slope of the outflow spectrum (beta = 1, the default reading along-bond), margin 0.1",
         scale: 0.1,
         pipe: false,
-        args: &["--cases", "beta1_same"],
+        args: &["--cases", "beta1_bond"],
     },
 ];
 

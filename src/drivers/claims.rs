@@ -307,6 +307,52 @@ pub enum Group {
 }
 
 impl Group {
+    /// The name of the group on the command line (`pipe-matrix --groups`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Group::Bands => "bands",
+            Group::Spectra => "spectra",
+            Group::Relaxation => "relaxation",
+            Group::Profile => "profile",
+            Group::Speed => "speed",
+            Group::Fig11 => "fig11",
+            Group::Fig12 => "fig12",
+        }
+    }
+
+    /// Parse a comma-separated list of group names, or `all`; an
+    /// [`ErrorKind::InvalidParameter`] error names a value that is not a
+    /// group, and the groups there are.
+    pub fn parse_list(s: &str) -> Result<Vec<Group>> {
+        if s.trim() == "all" {
+            return Ok(Group::ALL.to_vec());
+        }
+        let names: Vec<&str> = Group::ALL.iter().map(|g| g.name()).collect();
+        let groups = s
+            .split(',')
+            .map(|n| {
+                let n = n.trim();
+                Group::ALL
+                    .into_iter()
+                    .find(|g| g.name() == n)
+                    .ok_or_else(|| {
+                        crate::error::Error::new(
+                            ErrorKind::InvalidParameter,
+                            format!(
+                                "--groups: '{n}' is not a group of claims; choose from all, {}",
+                                names.join(", ")
+                            ),
+                        )
+                    })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        crate::cli::reject_duplicates(
+            "--groups",
+            &groups.iter().map(|g| g.name()).collect::<Vec<_>>(),
+        )?;
+        Ok(groups)
+    }
+
     /// Every group, in the order of [`CLAIMS`].
     pub const ALL: [Group; 7] = [
         Group::Bands,
