@@ -561,7 +561,7 @@ mod hopper {
         let base = granular_automata::hopper::geometry::max_outlet_width(width);
         assert_eq!(base, 97);
         // both readings of "aligned" named (the default moved from
-        // along-velocity to same-orientation; notes/hopper-default-switch.md)
+        // along-velocity to same-orientation; EXPERIMENTS.md "The hopper's default reading switches to same-orientation")
         let readings = [Aligned::AlongVelocity, Aligned::SameOrientation];
         for (outlet, aligned) in [1, base].into_iter().flat_map(|o| readings.map(|a| (o, a))) {
             let mut p = HopperParams::quick();

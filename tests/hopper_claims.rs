@@ -12,7 +12,7 @@
 //!
 //! Checks the default (along-bond, `beta1_bond`) reproduces at the quick
 //! tier, and the wrong model that contradicts each (values: quick, seed 1;
-//! notes/hopper-wrong-models.md, notes/hopper.md):
+//! EXPERIMENTS.md "A named wrong model for each reproduced check", EXPERIMENTS.md "The along-bond reading"):
 //!
 //! | check | default | wrong model |
 //! |---|---|---|
@@ -47,8 +47,8 @@ const SEED: u64 = 1;
 const RUNS: usize = 3;
 
 /// The reading chosen in issue 15 (HOPPER_READINGS.md Part 3), the library
-/// default since notes/hopper.md (same-orientation before,
-/// notes/hopper-default-switch.md).
+/// default since EXPERIMENTS.md "The along-bond reading" (same-orientation before,
+/// EXPERIMENTS.md "The hopper's default reading switches to same-orientation").
 const CHOSEN: Case = Case::BETA1_BOND;
 
 /// Thresholds and margins of `reproduce/hopper_fig2.rs` and
@@ -263,7 +263,7 @@ fn v_surface_and_lowered_core_density() {
     );
     // claim 6: the core approaches a constant width (quick: 0.29 +- 0.29
     // lattice spacings between 20% and 40% of the wedge height). No named
-    // model contradicts it at the quick tier (notes/hopper.md): the literal
+    // model contradicts it at the quick tier (EXPERIMENTS.md "The along-bond reading"): the literal
     // reading 5.2 +- 4.8, rest-same -3.2 +- 4.6, same-orientation 1.2 +-
     // 2.0, alpha = 20 5.2 +- 1.8, gamma = 0 8.4 +- 5.3, S = 1 2.0 +- 0.3
     // are undecided; through-wall rays, tau = 200, beta = 20 reproduce it;

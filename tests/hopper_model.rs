@@ -84,7 +84,7 @@ fn golden_fingerprint_of_a_small_seeded_run() {
     // Pins the exact stream: any change of the rules, the order of random
     // draws or the generator changes these numbers (update them
     // deliberately). Each reading of "aligned" is named explicitly; the
-    // default is pinned to be the along-bond one (notes/hopper.md).
+    // default is pinned to be the along-bond one (EXPERIMENTS.md "The along-bond reading").
     let mut literal = HopperParams::quick();
     literal.energy.aligned = Aligned::AlongVelocity;
     let f = fingerprint_of(literal, SEED);
@@ -109,15 +109,15 @@ fn golden_fingerprint_of_a_small_seeded_run() {
 
 /// FNV-1a of the sites after `fingerprint(SEED)` with the literal reading
 /// of "aligned" (the library default until the switch of
-/// notes/hopper-default-switch.md; the value is unchanged).
+/// EXPERIMENTS.md "The hopper's default reading switches to same-orientation"; the value is unchanged).
 const GOLDEN_ALONG: u64 = 0x77f4_4c66_a979_fb0b;
 
 /// The same with the same-orientation reading (the default between
-/// notes/hopper-default-switch.md and notes/hopper.md; unchanged).
+/// EXPERIMENTS.md "The hopper's default reading switches to same-orientation" and EXPERIMENTS.md "The along-bond reading"; unchanged).
 const GOLDEN_SAME: u64 = 0xf3b7_30af_0f53_499a;
 
 /// The same with the along-bond reading (HOPPER_READINGS.md R1), the
-/// default since notes/hopper.md.
+/// default since EXPERIMENTS.md "The along-bond reading".
 const GOLDEN_BOND: u64 = 0xc7db_9f92_fc32_780a;
 
 /// E_i of MODEL.md B4 computed directly from the vectors, powers and the
