@@ -23,7 +23,7 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::plot::{line_chart_at, Line, PALETTE};
 use crate::report::{run_figure, Options};
 use crate::run::Tier;
-use plotters::prelude::SeriesLabelPosition;
+use plotters::prelude::{RGBColor, SeriesLabelPosition};
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -356,8 +356,14 @@ fn run_one(plan: &Plan, key: &Key, tier: Tier, engine: &str, dir: &Path) -> Resu
 /// key (k SE <= scale / 2); where none does, the one whose extrapolated
 /// [`Point::cpu_to_resolve`] is least, marked as extrapolated.
 pub fn recommend(points: &[Point]) -> Vec<(String, String)> {
-    let mut figures: Vec<&str> = points.iter().map(|p| p.figure.as_str()).collect();
-    figures.dedup();
+    // each figure once, in the order of first appearance (points read
+    // with --from come after the measured ones)
+    let mut figures: Vec<&str> = Vec::new();
+    for p in points {
+        if !figures.contains(&p.figure.as_str()) {
+            figures.push(&p.figure);
+        }
+    }
     figures
         .into_iter()
         .map(|f| {
@@ -435,28 +441,46 @@ pub fn write(dir: &Path, points: &[Point]) -> Result<()> {
     let text = serde_json::to_string_pretty(&summary)
         .map_err(|e| Error::new(ErrorKind::Io, format!("cannot serialise summary: {e}")))?;
     crate::run::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
-    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    // one colour per figure, the fast engine's points in a lighter shade
+    let mut figures: Vec<&str> = Vec::new();
+    let mut lines: Vec<Line> = Vec::new();
     for p in points {
+        if !figures.contains(&p.figure.as_str()) {
+            figures.push(&p.figure);
+        }
+        let base =
+            PALETTE[figures.iter().position(|f| *f == p.figure).unwrap_or(0) % PALETTE.len()];
+        let color = if p.engine == "reference" {
+            base
+        } else {
+            let light = |c: u8| ((c as u16 + 2 * 255) / 3) as u8;
+            RGBColor(light(base.0), light(base.1), light(base.2))
+        };
         let label = format!("{} ({})", p.figure, p.engine);
-        match series.iter_mut().find(|(l, _)| *l == label) {
-            Some((_, pts)) => pts.push((p.cpu_seconds, p.resolution)),
-            None => series.push((label, vec![(p.cpu_seconds, p.resolution)])),
+        match lines.iter_mut().find(|l| l.label == label) {
+            Some(l) => l.points.push((p.cpu_seconds, p.resolution)),
+            None => {
+                lines.push(Line::new(&label, vec![(p.cpu_seconds, p.resolution)], color).markers())
+            }
         }
     }
-    let mut lines: Vec<Line> = series
-        .into_iter()
-        .enumerate()
-        .map(|(i, (label, pts))| Line::new(&label, pts, PALETTE[i % PALETTE.len()]).markers())
-        .collect();
     let cpus: Vec<f64> = points.iter().map(|p| p.cpu_seconds).collect();
     let (lo, hi) = cpus
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(a, b), &c| (a.min(c), b.max(c)));
+    let top = points.iter().map(|p| p.resolution).fold(0.0f64, f64::max);
     if lo.is_finite() && hi > 0.0 {
         lines.push(Line::new(
             "resolved below this line (k SE = scale / 2)",
             vec![(lo, 0.5), (hi, 0.5)],
             plotters::style::BLACK,
+        ));
+        // a guide of slope -1/2, above the points (it also leaves the
+        // legend room above them)
+        lines.push(Line::new(
+            "slope of SE against CPU at a fixed set-up (CPU^-1/2)",
+            vec![(lo, 8.0 * top), (hi, 8.0 * top * (lo / hi).sqrt())],
+            RGBColor(150, 150, 150),
         ));
     }
     line_chart_at(

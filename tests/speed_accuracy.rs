@@ -61,6 +61,28 @@ fn one_row_per_figure_and_engine_with_cpu_time_and_a_resume_that_reruns_nothing(
         "{a} +- {sa} vs {b} +- {sb}"
     );
     assert!(out.join("speed-accuracy/speed-accuracy.png").exists());
+    // one recommendation per figure, also when --from adds more points of it
+    let with_from = speed(
+        &out,
+        &[
+            &args[..],
+            &[
+                "--from",
+                out.join("speed-accuracy/runs/quick-fast").to_str().unwrap(),
+            ],
+        ]
+        .concat(),
+    );
+    assert!(with_from.status.success());
+    let printed = String::from_utf8_lossy(&with_from.stdout);
+    assert_eq!(
+        printed
+            .lines()
+            .filter(|l| l.starts_with("waves-fig5: "))
+            .count(),
+        1,
+        "{printed}"
+    );
     // a second call reads the summaries: same rows, no figure rerun
     let summary = out.join("speed-accuracy/runs/quick-fast/waves-fig5/summary.json");
     let written = std::fs::metadata(&summary)
