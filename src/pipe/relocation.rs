@@ -5,7 +5,7 @@
 
 use super::{Boundary, Params, RestPlacement, Rules};
 use crate::error::{Error, ErrorKind, Result};
-use crate::lattice::neighbour;
+use crate::lattice::neighbour_offset;
 
 /// Whether an error means the model is undefined for this run (MODEL.md A4)
 /// rather than a bug or bad input.
@@ -92,6 +92,25 @@ fn place_above(lattice: &mut impl RestChannels, params: &Params, x: usize, y: us
     false
 }
 
+/// `PICK[m][k]`: the position of the k-th set bit (from 0) of the 6-bit
+/// mask `m`, so that hops enumerate the valid directions in order 1..=6.
+const PICK: [[u8; 6]; 64] = {
+    let mut t = [[0u8; 6]; 64];
+    let mut m = 0;
+    while m < 64 {
+        let (mut i, mut k) = (0, 0);
+        while i < 6 {
+            if m >> i & 1 == 1 {
+                t[m][k] = i as u8;
+                k += 1;
+            }
+            i += 1;
+        }
+        m += 1;
+    }
+    t
+};
+
 /// The random walk from (x, y) over neighbouring sites (walls, and rows
 /// beyond the open ends, excluded) until a site with an empty rest channel
 /// is reached.
@@ -106,26 +125,40 @@ fn random_walk(
     let (w, l) = (params.width as i64, params.length as i64);
     let periodic = params.boundary == Boundary::Periodic;
     let bound = 1000 * params.sites() as u64 + 1_000_000;
+    // the six hops of an even and an odd column, in direction order 1..=6
+    let hop =
+        [0, 1].map(|parity| core::array::from_fn::<_, 6, _>(|k| neighbour_offset(k + 1, parity)));
     for _ in 0..bound {
-        let mut cand = [(0usize, 0usize); 6];
-        let mut n = 0;
-        for c in 1..=6 {
-            let (nx, mut ny) = neighbour(x, y, c);
-            if nx < 0 || nx >= w {
-                continue;
+        let (x0, y0) = (x as i64, y as i64);
+        let steps = &hop[x % 2];
+        // the valid directions as a mask (bit k: direction k + 1), computed
+        // without branches; the hop is the below(n)-th of the n valid ones
+        let interior = x0 >= 1 && x0 < w - 1 && (periodic || (y0 >= 1 && y0 < l - 1));
+        let (dx, dy) = if interior {
+            // all six valid: direction below(6) + 1, as the enumeration gives
+            steps[below(6) as usize]
+        } else {
+            let mut valid = 0usize;
+            for (k, &(dx, dy)) in steps.iter().enumerate() {
+                let (nx, ny) = (x0 + dx, y0 + dy);
+                let inside = (nx >= 0) & (nx < w) & (periodic | ((ny >= 0) & (ny < l)));
+                valid |= (inside as usize) << k;
             }
-            if periodic {
-                ny = ny.rem_euclid(l);
-            } else if ny < 0 || ny >= l {
-                continue;
+            if valid == 0 {
+                break;
             }
-            cand[n] = (nx as usize, ny as usize);
-            n += 1;
-        }
-        if n == 0 {
-            break;
-        }
-        (x, y) = cand[below(n as u32) as usize];
+            steps[PICK[valid][below(valid.count_ones()) as usize] as usize]
+        };
+        x = (x0 + dx) as usize;
+        // periodic: the row wraps by at most one length
+        let ny = y0 + dy;
+        y = (if ny < 0 {
+            ny + l
+        } else if ny >= l {
+            ny - l
+        } else {
+            ny
+        }) as usize;
         if !lattice.has_rest(x, y) {
             lattice.put_rest(x, y);
             return Ok(());
