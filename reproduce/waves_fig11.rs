@@ -225,7 +225,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         metrics.insert("valid_runs_I0.5".into(), ps.valid as f64);
         checks.push(fig11_speed_check(&ps, paper.len()));
     }
-    checks.push(Check::exact("correlation_peak_inside", Kind::Published, "PH95 Fig. 11 (C(R, T) peaks at T_c = 880)", t_c, t_c_samples > 1 && t_c_samples < T_MAX && cs.valid == corr.len(),
+    // a qualitative claim of the mean curve over the valid runs: undecided
+    // with fewer than 3 of them (the one grading rule)
+    checks.push(Check::test("correlation_peak_inside", Kind::Published, "PH95 Fig. 11 (C(R, T) peaks at T_c = 880)", t_c, cs.valid, t_c_samples > 1 && t_c_samples < T_MAX && cs.valid == corr.len(),
             &format!("C(R, T) at I = {I_CORR} has its peak strictly inside 0 < T < {} steps, all runs stationary (the published T_c = 880 is at I = 0.5: paper_setup_speed)", T_MAX as u64 * EVERY)).with_published(880.0));
     out.finish(&Summary {
         figure: "waves-fig11".into(),

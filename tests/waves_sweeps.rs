@@ -133,7 +133,11 @@ fn fig11_bookkeeping_and_correlation_speed() {
         &FIG11_FILES,
     );
     assert!(pass(&s, "bookkeeping_exact"));
-    assert!(pass(&s, "correlation_peak_inside"));
+    // two runs: the peak lies inside the window, but fewer than 3 runs are
+    // undecided, never a pass (the one grading rule)
+    let t_c = metric(&s, "t_c");
+    assert!(t_c > 0.0 && t_c < 3000.0, "t_c = {t_c}");
+    assert!(!pass(&s, "correlation_peak_inside"));
     assert!(within_pinned(&s), "v_corr = {}", metric(&s, "v_corr"));
 }
 
