@@ -36,6 +36,7 @@ fn all_rules() -> Vec<Rules> {
                                 rest,
                                 wall_move,
                                 rest_slide,
+                                ..Rules::MODEL_MD
                             });
                         }
                     }

@@ -5,7 +5,7 @@
 //! with the reference's exact one-step tables by `validate --candidate fast`.
 
 use granular_automata::pipe::draws::Draws;
-use granular_automata::pipe::engine::{EngineBuilder, PipeEngine};
+use granular_automata::pipe::engine::{EngineBuilder, PipeEngine, Reference};
 use granular_automata::pipe::fast::{Fast, FastPipe};
 use granular_automata::pipe::{Boundary, Flux, GravityWording, Params, Pipe, RestPlacement, Rules};
 use granular_automata::ErrorKind;
@@ -196,6 +196,8 @@ fn certain_configs() -> Vec<(&'static str, f64, f64)> {
             1.0,
             1.0,
         ),
+        ("ph94+gravity-last+wall-move+fhp-rest", 1.0, 1.0),
+        ("rest-ahead+gravity-last", 1.0, 0.0),
     ]
 }
 
@@ -250,6 +252,10 @@ fn dense_states_agree_wherever_the_step_is_certain() {
         "default",
         "ph94+wall-drag+rest-up",
         "up-to-rest+gravity-first+wall-move+wall-drag+rest-up",
+        "rest-ahead",
+        "rest-ahead+gravity-first+wall-move+fhp-rest",
+        "ph94+gravity-last+wall-move+fhp-rest",
+        "rest-ahead+gravity-last+rest-slide",
     ];
     for (w, l) in [(1, 7), (2, 9), (3, 65), (11, 13)] {
         for open in [false, true] {
@@ -299,6 +305,141 @@ fn dense_states_agree_wherever_the_step_is_certain() {
         compared > 2000 && random > 500,
         "{compared} certain, {random} random"
     );
+}
+
+/// The occupied sites after one step of both engines from `init`, a step
+/// that must have no random choice (the engines agree site by site).
+fn after_one_step(p: Params, rules: &str, init: &[(usize, usize, u8)]) -> Vec<(usize, usize, u8)> {
+    let mut s = Lockstep::new(p, rules.parse().unwrap(), init);
+    assert!(s.step(true, rules));
+    let mut v = Vec::new();
+    for x in 0..p.width {
+        for (y, &b) in s.reference.column(x).iter().enumerate() {
+            if b != 0 {
+                v.push((x, y, b));
+            }
+        }
+    }
+    v
+}
+
+/// `gravity-last` (READINGS.md P9): at g = 1 a lone rest particle falls
+/// after propagation, so it ends the step on its own site in channel 4;
+/// with gravity before propagation (`default`, `ph94`) it has already moved
+/// one row down.
+#[test]
+fn gravity_last_makes_a_rest_particle_fall_in_place() {
+    let p = params(5, 9, false, 0.0, 1.0, 0.0);
+    let init = [(2, 4, 1)];
+    assert_eq!(
+        after_one_step(p, "ph94+gravity-last+wall-move", &init),
+        [(2, 4, 1 << 4)]
+    );
+    for rules in ["default", "ph94", "rest-ahead+gravity-first+wall-move"] {
+        assert_eq!(after_one_step(p, rules, &init), [(2, 3, 1 << 4)], "{rules}");
+    }
+}
+
+/// `fhp-rest` (READINGS.md P4): {rest, up} at (2, 4) becomes {up-left,
+/// up-right}, which move to (1, 4) and (3, 4); without it the rest particle
+/// stays (g = 0) and the up-mover moves to (2, 5).
+#[test]
+fn fhp_rest_turns_a_rest_particle_and_a_mover_into_a_pair() {
+    let p = params(5, 9, false, 0.5, 0.0, 0.0);
+    let init = [(2, 4, 1 | 1 << 1)];
+    for rules in [
+        "ph94+fhp-rest",
+        "default+fhp-rest",
+        "rest-ahead+gravity-last+fhp-rest",
+    ] {
+        assert_eq!(
+            after_one_step(p, rules, &init),
+            [(1, 4, 1 << 2), (3, 4, 1 << 6)],
+            "{rules}"
+        );
+    }
+    assert_eq!(
+        after_one_step(p, "default", &init),
+        [(2, 4, 1), (2, 5, 1 << 1)]
+    );
+}
+
+/// `rest-ahead` (READINGS.md P7), g = 1, p = 0: an up-left mover at (2, 4)
+/// whose next site (1, 4) holds a rest particle is turned down (2 -> 3) and
+/// lands on (1, 3) with the fallen rest particle (which still counts as
+/// ahead: the neighbours are read before the gravity moves); under `ph94`
+/// it is not turned (its own site holds no rest particle). With the rest
+/// particle on (3, 4) instead, not ahead of it, `rest-ahead` leaves it and
+/// `any-mover` turns it.
+#[test]
+fn rest_ahead_turns_only_a_mover_heading_for_a_rest_particle() {
+    let p = params(5, 9, false, 0.0, 1.0, 0.0);
+    let (up_left, down_left, down) = (1 << 2, 1 << 3, 1 << 4);
+    let ahead = [(1, 4, 1), (2, 4, up_left)];
+    assert_eq!(
+        after_one_step(p, "rest-ahead+gravity-first+wall-move", &ahead),
+        [(1, 3, down_left | down)]
+    );
+    assert_eq!(
+        after_one_step(p, "default", &ahead),
+        [(1, 3, down), (1, 4, up_left)]
+    );
+    let aside = [(2, 4, up_left), (3, 4, 1)];
+    assert_eq!(
+        after_one_step(p, "rest-ahead+gravity-first+wall-move", &aside),
+        [(1, 4, up_left), (3, 3, down)]
+    );
+    assert_eq!(
+        after_one_step(p, "any-mover+gravity-first+wall-move", &aside),
+        [(1, 3, down_left), (3, 3, down)]
+    );
+}
+
+/// In the periodic pipe `ph94+gravity-last` runs the sub-steps of
+/// `ph94+gravity-first` in the same cycle (collisions, walls, propagation,
+/// gravity): the first gravity sub-step of `gravity-first` meets a start
+/// without rest particles, moves nothing and draws nothing, so both engines
+/// put the particles on the same sites at every step, seed for seed (the
+/// channels differ by one gravity sub-step). With `any-mover` the first
+/// gravity sub-step draws, and the runs part.
+#[test]
+fn gravity_last_repeats_gravity_first_in_the_periodic_pipe() {
+    let p = Params {
+        length: 40,
+        width: 5,
+        ..Params::default()
+    };
+    let counts = |e: &dyn PipeEngine| -> Vec<u32> {
+        (0..5)
+            .flat_map(|x| (0..40).map(move |y| (x, y)))
+            .map(|(x, y)| e.site(x, y).count_ones())
+            .collect()
+    };
+    let builders: [&dyn EngineBuilder; 2] = [&Reference, &Fast];
+    for b in builders {
+        let parted = |first: &str, last: &str| {
+            let mut f = b.build(p, first.parse().unwrap(), SEED).unwrap();
+            let mut l = b.build(p, last.parse().unwrap(), SEED).unwrap();
+            for _ in 0..200 {
+                f.step().unwrap();
+                l.step().unwrap();
+                if counts(f.as_ref()) != counts(l.as_ref()) {
+                    return true;
+                }
+            }
+            false
+        };
+        assert!(
+            !parted("default", "ph94+gravity-last+wall-move"),
+            "{}",
+            b.name()
+        );
+        assert!(
+            parted("any-mover+gravity-first", "any-mover+gravity-last"),
+            "{}",
+            b.name()
+        );
+    }
 }
 
 /// A full row of rest particles with R5 collisions and `rest-up`: the
@@ -487,15 +628,17 @@ fn runs_repeat_and_seeds_differ() {
     assert_ne!(run(5), run(6));
 }
 
-/// Every reading runs (none is refused) and conserves particles.
+/// Every reading runs and conserves particles; the one invalid combination,
+/// `gravity-first` with `gravity-last`, is refused with a typed error.
 #[test]
 fn every_reading_is_supported() {
     for gravity in [
         GravityWording::Ph94,
         GravityWording::AnyMover,
         GravityWording::UpToRest,
+        GravityWording::RestAhead,
     ] {
-        for flags in 0..32u32 {
+        for flags in 0..128u32 {
             let rules = Rules {
                 gravity,
                 wall_drag: flags & 1 != 0,
@@ -507,7 +650,14 @@ fn every_reading_is_supported() {
                 },
                 wall_move: flags & 8 != 0,
                 rest_slide: flags & 16 != 0,
+                gravity_last: flags & 32 != 0,
+                fhp_rest: flags & 64 != 0,
             };
+            if rules.gravity_first && rules.gravity_last {
+                let e = Fast.build(Params::default(), rules, SEED).err().unwrap();
+                assert!(e.message.contains("gravity-last"), "{}", e.message);
+                continue;
+            }
             let p = Params {
                 length: 40,
                 width: 5,

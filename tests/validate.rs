@@ -80,6 +80,31 @@ fn the_fast_engine_passes_both_pipe_levels() {
     assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
 }
 
+/// The three readings of issue 14 step 1 in one (`rest-ahead`,
+/// `gravity-last`, `fhp-rest`, with `wall-move`): the fast engine passes
+/// level 1 against the reference's exact tables (about 12 s on one core).
+/// Level 1 probes lone sites, so `rest-ahead` turns a mover there only after
+/// a relocation puts a rest particle ahead of it; tests/fast_engine.rs
+/// compares the engines on dense states.
+#[test]
+fn the_fast_engine_passes_level_1_for_the_new_readings() {
+    let args = [
+        "--candidate",
+        "fast",
+        "--level",
+        "1",
+        "--tier",
+        "quick",
+        "--model",
+        "pipe",
+        "--rules",
+        "rest-ahead+gravity-last+wall-move+fhp-rest",
+    ];
+    let (_, r) = passing("fast-new-readings", &args);
+    assert_eq!(r["pass"], true);
+    assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
+}
+
 /// With collisions before gravity (`ph94`, no `gravity-first`) a relocated
 /// rest particle falls in the same step, so particles travel further than
 /// with the default; the probe blocks must still isolate the probe sites.

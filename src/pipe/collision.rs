@@ -5,6 +5,7 @@
 //!
 //! The table is data: [`CollisionTable::describe`] prints it for checking.
 
+use super::Rules;
 use crate::lattice::{rotate, CHANNEL_NAMES};
 
 /// Bit of channel `c` in a site byte.
@@ -38,6 +39,9 @@ pub enum Rule {
     R4,
     /// R5: `{0, c, c+2}` -> `{0, c+1}` plus one extra rest particle.
     R5,
+    /// `fhp-rest` (READINGS.md P4, with that rule only): `{0, c}` ->
+    /// `{c-1, c+1}` with certainty.
+    FhpRest,
 }
 
 /// One possible outcome of a collision.
@@ -86,6 +90,16 @@ type RawOutcome = (u8, u8, f64);
 impl CollisionTable {
     /// Build the table of R1-R5 for dissipation probability `p`.
     pub fn new(p: f64) -> Self {
+        Self::build(p, false)
+    }
+
+    /// The table of a rule reading: R1-R5, plus the rest-particle collision
+    /// of `fhp-rest` when named.
+    pub fn for_rules(p: f64, rules: Rules) -> Self {
+        Self::build(p, rules.fhp_rest)
+    }
+
+    fn build(p: f64, fhp_rest: bool) -> Self {
         let mut raw: Vec<(Rule, Vec<RawOutcome>)> = (0..128u8)
             .map(|s| (Rule::None, vec![(s, 0, 1.0)]))
             .collect();
@@ -103,6 +117,10 @@ impl CollisionTable {
             raw[set(&[0, c, r(3)]) as usize] = (Rule::R4, vec![(REST_BIT, 2, 1.0)]);
             // R5 {0, c, c+2} -> {0, c+1} plus one extra rest particle
             raw[set(&[0, c, r(2)]) as usize] = (Rule::R5, vec![(set(&[0, r(1)]), 1, 1.0)]);
+            if fhp_rest {
+                // {0, c} -> {c-1, c+1} with certainty (e_{c-1} + e_{c+1} = e_c)
+                raw[set(&[0, c]) as usize] = (Rule::FhpRest, vec![(set(&[r(5), r(1)]), 0, 1.0)]);
+            }
         }
         for c in 1..=2 {
             // R3 {c, c+2, c+4} -> {0, c, c+3}, {0, c+1, c+4}, {0, c+2, c+5}: p/3 each
@@ -190,8 +208,14 @@ mod tests {
 
     #[test]
     fn every_outcome_conserves_mass_and_momentum_and_probabilities_sum_to_one() {
-        for &p in &[0.0, 0.1, 0.5, 1.0] {
-            let t = CollisionTable::new(p);
+        let fhp: Rules = "ph94+fhp-rest".parse().unwrap();
+        let tables = [0.0, 0.1, 0.5, 1.0].into_iter().flat_map(|p| {
+            [
+                (p, CollisionTable::new(p)),
+                (p, CollisionTable::for_rules(p, fhp)),
+            ]
+        });
+        for (p, t) in tables {
             for s in 0..128u8 {
                 let e = &t.entries[s as usize];
                 let total: f64 = e.outcomes.iter().map(|o| o.prob).sum();
@@ -232,6 +256,7 @@ mod tests {
                 Rule::R3 => 3,
                 Rule::R4 => 4,
                 Rule::R5 => 5,
+                Rule::FhpRest => panic!("fhp-rest in the table of R1-R5"),
             }] += 1;
             match e.rule {
                 Rule::None => assert!(e.is_identity(s)),
@@ -266,10 +291,38 @@ mod tests {
                     assert_eq!(e.outcomes[0].extra, 1);
                     assert_eq!(e.outcomes[0].state.count_ones(), 2);
                 }
+                Rule::FhpRest => unreachable!(),
             }
         }
         // 3 head-on pairs, 6 pairs at 120 degrees, 2 triples, 3 and 6 with rest
         assert_eq!(counts[1..], [3, 6, 2, 3, 6]);
+    }
+
+    /// `fhp-rest` changes exactly the six states {0, c}, each into the pair
+    /// {c-1, c+1} with certainty: {rest, up} -> {up-left, up-right}; without
+    /// it they pass through (the rule can fail: R1-R5 leave them alone).
+    #[test]
+    fn fhp_rest_splits_a_lone_rest_particle_and_mover_into_a_pair() {
+        let base = CollisionTable::new(0.3);
+        let fhp = CollisionTable::for_rules(0.3, "default+fhp-rest".parse().unwrap());
+        let mut changed = 0;
+        for s in 0..128u8 {
+            let (a, b) = (&base.entries[s as usize], &fhp.entries[s as usize]);
+            if a != b {
+                changed += 1;
+                assert_eq!(b.rule, Rule::FhpRest);
+                assert!(a.is_identity(s), "{}", names(s));
+            }
+        }
+        assert_eq!(changed, 6);
+        let e = &fhp.entries[(REST_BIT | bit(1)) as usize];
+        assert_eq!(e.outcomes.len(), 1);
+        assert_eq!(
+            (e.outcomes[0].state, e.outcomes[0].extra),
+            (bit(2) | bit(6), 0)
+        );
+        let e = &fhp.entries[(REST_BIT | bit(4)) as usize];
+        assert_eq!(e.outcomes[0].state, bit(3) | bit(5));
     }
 
     #[test]

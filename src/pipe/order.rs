@@ -28,8 +28,9 @@ pub(crate) trait SubSteps {
 }
 
 /// One time step (MODEL.md A2): injection (open pipe only); gravity then
-/// collisions with `gravity-first`, else collisions then gravity;
-/// `wall-drag` and `wall-move` if named; propagation.
+/// collisions with `gravity-first`, collisions alone with `gravity-last`,
+/// else collisions then gravity; `wall-drag` and `wall-move` if named;
+/// propagation; gravity with `gravity-last` (READINGS.md P9).
 pub(crate) fn step(engine: &mut impl SubSteps) -> Result<()> {
     let rules = engine.rules();
     if let Boundary::Open { .. } = engine.params().boundary {
@@ -40,7 +41,9 @@ pub(crate) fn step(engine: &mut impl SubSteps) -> Result<()> {
         engine.collide()?;
     } else {
         engine.collide()?;
-        engine.gravity();
+        if !rules.gravity_last {
+            engine.gravity();
+        }
     }
     if rules.wall_drag {
         engine.wall_drag();
@@ -49,6 +52,9 @@ pub(crate) fn step(engine: &mut impl SubSteps) -> Result<()> {
         engine.wall_move();
     }
     engine.propagate();
+    if rules.gravity_last {
+        engine.gravity();
+    }
     engine.tick();
     Ok(())
 }

@@ -62,6 +62,9 @@ pub struct Pipe<D = Xoshiro256PlusPlus> {
     b_t: u64,
     inject_t: u64,
     extras: Vec<u32>,
+    /// The site bytes at the start of the gravity sub-step (`rest-ahead`
+    /// reads the neighbours there).
+    before: Vec<u8>,
     time: u64,
     flux: Flux,
 }
@@ -80,7 +83,9 @@ pub(super) fn gravity_table(wording: GravityWording) -> [Moves; 128] {
         add(0, 4); // a rest particle falls
         let movers_turn = match wording {
             GravityWording::Ph94 => has(0),
-            GravityWording::AnyMover | GravityWording::UpToRest => true,
+            // `rest-ahead`: the turns the state allows, kept by `gravity`
+            // only where the neighbour ahead holds a rest particle
+            GravityWording::AnyMover | GravityWording::UpToRest | GravityWording::RestAhead => true,
         };
         if movers_turn {
             add(2, 3);
@@ -138,6 +143,7 @@ impl Pipe {
     /// draws the initial state (A8) from `seed`. The open pipe starts empty.
     pub fn new(params: Params, rules: Rules, seed: u64) -> Result<Self> {
         params.validate()?;
+        rules.validate()?;
         let stride = params.length + 2;
         let n = (params.width + 2) * stride;
         let mut pipe = Pipe {
@@ -147,7 +153,7 @@ impl Pipe {
             cells: vec![0; n],
             next: vec![0; n],
             stride,
-            table: CollisionTable::new(params.p),
+            table: CollisionTable::for_rules(params.p, rules),
             kind: [0; 128],
             gravity_moves: gravity_table(rules.gravity),
             g_t: threshold(params.g),
@@ -157,6 +163,7 @@ impl Pipe {
                 Boundary::Periodic => 0,
             },
             extras: Vec::new(),
+            before: Vec::new(),
             time: 0,
             flux: Flux::default(),
         };
@@ -196,6 +203,7 @@ impl Pipe {
             b_t: self.b_t,
             inject_t: self.inject_t,
             extras: self.extras,
+            before: self.before,
             time: self.time,
             flux: self.flux,
         }
@@ -240,7 +248,7 @@ impl<D: Draws> Pipe<D> {
     pub fn set_p(&mut self, p: f64) -> Result<()> {
         check_unit("p", p)?;
         self.params.p = p;
-        self.table = CollisionTable::new(p);
+        self.table = CollisionTable::for_rules(p, self.rules);
         self.build_kinds();
         Ok(())
     }
@@ -377,23 +385,41 @@ impl<D: Draws> SubSteps for Pipe<D> {
 
     /// Gravity (A5, \[PH94 (6)\], \[PH95 Fig. 1c\]): at every site each move of
     /// the state's tabulated moves with probability g, then `rest-slide`.
+    /// With `rest-ahead` a turn 2 -> 3 or 6 -> 5 is made only when the
+    /// mover's neighbour ahead held a rest particle at the start of this
+    /// sub-step ([`Pipe::rest_ahead`]).
     fn gravity(&mut self) {
         if self.g_t == 0 {
             return;
         }
         let slide = self.rules.rest_slide;
+        let ahead_only = self.rules.gravity == GravityWording::RestAhead;
+        if ahead_only {
+            self.before.clone_from(&self.cells);
+        }
         let (w, l) = (self.params.width, self.params.length);
         for x in 0..w {
             let start = (x + 1) * self.stride + 1;
-            for i in start..start + l {
+            for (y, i) in (start..start + l).enumerate() {
                 let s = self.cells[i];
                 let m = self.gravity_moves[s as usize];
                 let blocked_rest = slide && s & SLIDE_FROM == SLIDE_FROM;
                 if m.n == 0 && !blocked_rest {
                     continue;
                 }
+                // the movers gravity may turn: all the table allows, or with
+                // `rest-ahead` those with a rest particle ahead
+                let turnable = if ahead_only {
+                    self.rest_ahead(x, y)
+                } else {
+                    bit(2) | bit(6)
+                };
                 let mut new = s;
                 for &(from, to) in &m.moves[..m.n as usize] {
+                    let from_mover = from == 2 || from == 6;
+                    if from_mover && turnable & bit(from as usize) == 0 {
+                        continue;
+                    }
                     if self.rng.chance(self.g_t) {
                         new = (new & !bit(from as usize)) | bit(to as usize);
                     }
@@ -489,6 +515,32 @@ impl<D: Draws> Pipe<D> {
             rest_now,
             self.time,
         )
+    }
+
+    /// `rest-ahead` (READINGS.md P7): of the up-movers 2 and 6 of site
+    /// (x, y), as a mask, those whose neighbour along their velocity (A1)
+    /// holds a rest particle in `before`, the state at the start of the
+    /// gravity sub-step. Beyond a wall or an open end there is no site and no
+    /// rest particle; the periodic pipe wraps at the top.
+    fn rest_ahead(&self, x: usize, y: usize) -> u8 {
+        let (w, l) = (self.params.width as i64, self.params.length as i64);
+        let mut mask = 0;
+        for c in [2, 6] {
+            let (nx, mut ny) = neighbour(x, y, c);
+            if nx < 0 || nx >= w {
+                continue;
+            }
+            if self.params.boundary == Boundary::Periodic {
+                ny = ny.rem_euclid(l);
+            } else if ny < 0 || ny >= l {
+                continue;
+            }
+            let i = (nx as usize + 1) * self.stride + ny as usize + 1;
+            if self.before[i] & REST_BIT != 0 {
+                mask |= bit(c);
+            }
+        }
+        mask
     }
 
     /// `rest-slide` (A5, a project proposal): a rest particle under an

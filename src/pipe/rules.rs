@@ -35,6 +35,17 @@ pub enum GravityWording {
     /// empty. (With the \[PH94\] condition 1 -> 0 could never happen, since the
     /// site must hold a rest particle, so this variant builds on `any-mover`.)
     UpToRest,
+    /// `rest-ahead` (READINGS.md P7): \[PH94 (6)\]'s condition for turning a
+    /// mover, its collision with a rest particle, read as a collision about
+    /// to happen (in the next propagation): a
+    /// mover is turned (2 -> 3, 6 -> 5, probability g, into an empty channel)
+    /// only when its neighbour along its velocity before the turn (MODEL.md
+    /// A1) holds a rest particle; rest particles fall (0 -> 4) as in every
+    /// wording. The neighbours are read in the lattice state at the start of
+    /// the gravity sub-step, before any of its moves (a rest particle that
+    /// falls in this sub-step still counts as ahead). Beyond a wall or an
+    /// open end there is no site, hence no rest particle.
+    RestAhead,
 }
 
 /// Where an extra rest particle of R4/R5 goes (MODEL.md A4, A11).
@@ -61,6 +72,13 @@ pub struct Rules {
     /// `gravity-first` (A2 variant): gravity acts before the collision step
     /// instead of after relocation.
     pub gravity_first: bool,
+    /// `gravity-last` (A2 variant, READINGS.md P9): gravity acts after
+    /// propagation, as the last sub-step of the step, instead of after
+    /// relocation. \[PH94\] lists gravity as rule (6) beside the collisions
+    /// and \[PH95 II\] after them, neither in a stated order with
+    /// propagation. Under `ph94`, "a site holding a rest particle" is then the
+    /// state after propagation. Excludes `gravity-first`.
+    pub gravity_last: bool,
     /// Placement of extra rest particles (A4).
     pub rest: RestPlacement,
     /// `wall-move` (A6 variant, issue 4): a particle heading into a wall is
@@ -86,6 +104,14 @@ pub struct Rules {
     /// EXPERIMENTS.md session 3); the diagonals are the only other downward
     /// channels, and they reach the rough walls.
     pub rest_slide: bool,
+    /// `fhp-rest` (A3 variant, READINGS.md P4): a mover meeting a lone rest
+    /// particle, a site holding exactly {0, c}, leaves as the pair
+    /// {c-1, c+1} (FHP-II's rest-particle collision; mass and momentum
+    /// conserved). \[PH94 (1)-(5)\] cover no state {0, c}, although a mover
+    /// and a rest particle make a collision of two bodies; the probability is 1, as for the other
+    /// collisions with a rest particle, (4) and (5), which happen with
+    /// certainty. The inverse {c-1, c+1} is R2 of \[PH94 (2)\] and stays as it is.
+    pub fhp_rest: bool,
 }
 
 impl Rules {
@@ -98,7 +124,24 @@ impl Rules {
         rest: RestPlacement::RandomWalk,
         wall_move: false,
         rest_slide: false,
+        gravity_last: false,
+        fhp_rest: false,
     };
+}
+
+impl Rules {
+    /// Checks a reading built as a value (names parsed by [`Rules::from_str`]
+    /// are checked there): `gravity-first` and `gravity-last` exclude each
+    /// other, since gravity acts once per step.
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.gravity_first && self.gravity_last {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!("rules: '{self}' names both gravity-first and gravity-last; gravity acts once per step, name at most one of them"),
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl Default for Rules {
@@ -116,7 +159,7 @@ impl Default for Rules {
 }
 
 /// Every name understood by [`Rules::from_str`], with its meaning.
-pub const RULE_NAMES: [(&str, &str); 9] = [
+pub const RULE_NAMES: [(&str, &str); 12] = [
     (
         "default",
         "the project's default reading, ph94+gravity-first+wall-move (issue 4)",
@@ -128,10 +171,18 @@ pub const RULE_NAMES: [(&str, &str); 9] = [
     ("any-mover", "gravity turns every mover [PH95]"),
     ("up-to-rest", "any-mover plus up-movers stopping (1 -> 0)"),
     (
+        "rest-ahead",
+        "gravity turns only movers whose next site holds a rest particle",
+    ),
+    (
         "wall-drag",
         "movers along a wall are bounced back (1 <-> 4) with probability b",
     ),
     ("gravity-first", "gravity before the collision step"),
+    (
+        "gravity-last",
+        "gravity after propagation, the last sub-step",
+    ),
     (
         "rest-up",
         "extra rest particles pile up on the nearest free site above",
@@ -144,6 +195,10 @@ pub const RULE_NAMES: [(&str, &str); 9] = [
         "rest-slide",
         "a rest particle whose fall channel is occupied slides down a diagonal",
     ),
+    (
+        "fhp-rest",
+        "a mover meeting a lone rest particle, {0, c}, leaves as {c-1, c+1}",
+    ),
 ];
 
 impl fmt::Display for Rules {
@@ -152,6 +207,7 @@ impl fmt::Display for Rules {
             GravityWording::Ph94 => "ph94",
             GravityWording::AnyMover => "any-mover",
             GravityWording::UpToRest => "up-to-rest",
+            GravityWording::RestAhead => "rest-ahead",
         }];
         if self.wall_drag {
             parts.push("wall-drag");
@@ -167,6 +223,12 @@ impl fmt::Display for Rules {
         }
         if self.rest_slide {
             parts.push("rest-slide");
+        }
+        if self.gravity_last {
+            parts.push("gravity-last");
+        }
+        if self.fhp_rest {
+            parts.push("fhp-rest");
         }
         write!(f, "{}", parts.join("+"))
     }
@@ -189,6 +251,7 @@ impl FromStr for Rules {
                 "ph94" => Some(GravityWording::Ph94),
                 "any-mover" => Some(GravityWording::AnyMover),
                 "up-to-rest" => Some(GravityWording::UpToRest),
+                "rest-ahead" => Some(GravityWording::RestAhead),
                 "wall-drag" => {
                     r.wall_drag = true;
                     None
@@ -209,6 +272,14 @@ impl FromStr for Rules {
                     r.rest_slide = true;
                     None
                 }
+                "gravity-last" => {
+                    r.gravity_last = true;
+                    None
+                }
+                "fhp-rest" => {
+                    r.fhp_rest = true;
+                    None
+                }
                 other => {
                     let known: Vec<&str> = RULE_NAMES.iter().map(|n| n.0).collect();
                     return Err(Error::new(
@@ -224,13 +295,14 @@ impl FromStr for Rules {
                 if gravity_named && g != r.gravity {
                     return Err(Error::new(
                         ErrorKind::InvalidParameter,
-                        format!("rules: '{s}' names two gravity wordings; name at most one of ph94, any-mover, up-to-rest"),
+                        format!("rules: '{s}' names two gravity wordings; name at most one of ph94, any-mover, up-to-rest, rest-ahead"),
                     ));
                 }
                 gravity_named = true;
                 r.gravity = g;
             }
         }
+        r.validate()?;
         Ok(r)
     }
 }
@@ -248,7 +320,7 @@ mod tests {
 
     #[test]
     fn every_combination_round_trips() {
-        for g in ["ph94", "any-mover", "up-to-rest"] {
+        for g in ["ph94", "any-mover", "up-to-rest", "rest-ahead"] {
             for extra in [
                 "",
                 "+wall-drag",
@@ -256,7 +328,10 @@ mod tests {
                 "+rest-up",
                 "+wall-move",
                 "+rest-slide",
-                "+wall-drag+gravity-first+rest-up+wall-move+rest-slide",
+                "+gravity-last",
+                "+fhp-rest",
+                "+wall-drag+gravity-first+rest-up+wall-move+rest-slide+fhp-rest",
+                "+wall-drag+rest-up+wall-move+rest-slide+gravity-last+fhp-rest",
             ] {
                 let s = format!("{g}{extra}");
                 let r: Rules = s.parse().unwrap();
@@ -266,5 +341,26 @@ mod tests {
         assert!("ph94+any-mover".parse::<Rules>().is_err());
         let e = "wall".parse::<Rules>().unwrap_err();
         assert!(e.message.contains("'wall'") && e.message.contains("wall-drag"));
+        // every listed name parses, and the listed names are all the names
+        for (name, _) in RULE_NAMES {
+            assert!(name.parse::<Rules>().is_ok(), "{name}");
+        }
+    }
+
+    #[test]
+    fn gravity_first_and_gravity_last_exclude_each_other() {
+        for s in ["ph94+gravity-first+gravity-last", "default+gravity-last"] {
+            let e = s.parse::<Rules>().unwrap_err();
+            assert!(
+                e.message.contains("gravity-first") && e.message.contains("gravity-last"),
+                "{}",
+                e.message
+            );
+        }
+        let r: Rules = "gravity-last+wall-move+fhp-rest+rest-ahead"
+            .parse()
+            .unwrap();
+        assert_eq!(r.to_string(), "rest-ahead+wall-move+gravity-last+fhp-rest");
+        assert!("rest-ahead+ph94".parse::<Rules>().is_err());
     }
 }

@@ -154,7 +154,7 @@ impl EngineBuilder for Mutant {
         let mut pipe = Pipe::new(params, rules, seed)?;
         match self {
             Mutant::R1SameSide | Mutant::ExtrasDropped => {
-                let mut table = CollisionTable::new(params.p);
+                let mut table = CollisionTable::for_rules(params.p, rules);
                 for e in &mut table.entries {
                     if *self == Mutant::R1SameSide && e.rule == Rule::R1 {
                         e.outcomes.truncate(1);

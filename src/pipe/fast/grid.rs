@@ -158,6 +158,29 @@ impl Grid {
         }
     }
 
+    /// `rest-ahead` (READINGS.md P7): the lanes of word `k` of column `x`
+    /// whose neighbour along channel 2 (up-left), and along channel 6
+    /// (up-right), holds a rest particle (MODEL.md A1: column x -+ 1, row
+    /// y + x % 2). Beyond a wall or the open top there is none; the periodic
+    /// pipe wraps row L to row 0.
+    pub fn rest_ahead(&self, x: usize, k: usize, periodic: bool) -> (u64, u64) {
+        let odd = x % 2 == 1;
+        let rest = |col: &[Word]| {
+            if odd {
+                self.down(col, 0, k, periodic)
+            } else {
+                col[k][0]
+            }
+        };
+        let left = if x > 0 { rest(self.column(x - 1)) } else { 0 };
+        let right = if x + 1 < self.width {
+            rest(self.column(x + 1))
+        } else {
+            0
+        };
+        (left, right)
+    }
+
     /// Free streaming (MODEL.md A2 step 4, A1 neighbours) into `next`: every
     /// mover goes to its neighbour; movers whose neighbour is a wall or a row
     /// beyond the open ends are dropped here (the walls put theirs back,

@@ -20,6 +20,8 @@ pub struct Classes {
     pub r4: u64,
     /// R5: {0, c, c+2}.
     pub r5: u64,
+    /// `fhp-rest` (READINGS.md P4, only when named): {0, c}.
+    pub fhp: u64,
 }
 
 impl Classes {
@@ -29,7 +31,7 @@ impl Classes {
     }
     /// Lanes matching any rule.
     pub fn any(&self) -> u64 {
-        self.r1 | self.r2 | self.any_r3() | self.r4 | self.r5
+        self.r1 | self.r2 | self.any_r3() | self.r4 | self.r5 | self.fhp
     }
 }
 
@@ -54,9 +56,10 @@ const AROUND: [[usize; 4]; 6] = [
     [5, 4, 1, 2],
 ];
 
-/// Classify 64 sites by the rule of MODEL.md A3 they match.
+/// Classify 64 sites by the rule of MODEL.md A3 they match, with the
+/// rest-particle collision {0, c} of `fhp-rest` when `fhp_rest` is set.
 #[inline]
-pub fn classify(s: &Word) -> Classes {
+pub fn classify(s: &Word, fhp_rest: bool) -> Classes {
     let [ones, twos, fours] = mover_count(s);
     let two = !ones & twos & !fours;
     let three = ones & twos & !fours;
@@ -79,6 +82,11 @@ pub fn classify(s: &Word) -> Classes {
         ],
         r4: head_on & rest,
         r5: skew & rest,
+        fhp: if fhp_rest {
+            ones & !twos & !fours & rest
+        } else {
+            0
+        },
     }
 }
 
@@ -129,15 +137,16 @@ pub fn collide(s: &Word, k: &Classes, d: &Decisions) -> Collided {
         ];
     }
     let r3 = pairs[0] | pairs[1] | pairs[2];
-    let changed = k.r1 | k.r4 | middle | r3;
+    let changed = k.r1 | k.r4 | middle | r3 | k.fhp;
     let mut state = [0u64; 7];
-    state[0] = s[0] | middle | r3;
+    state[0] = (s[0] & !k.fhp) | middle | r3;
     for (c, &[before, twice_before, after, pair]) in AROUND.iter().enumerate() {
         let c = c + 1;
         state[c] = (s[c] & !changed)
             | (turn1 & s[before])
             | (turn2 & s[twice_before])
             | (middle & s[before] & s[after])
+            | (k.fhp & (s[before] | s[after]))
             | pairs[pair];
     }
     Collided {
@@ -166,7 +175,9 @@ pub struct Moves {
 pub fn gravity_moves(s: &Word, wording: GravityWording) -> Moves {
     let turning = match wording {
         GravityWording::Ph94 => s[0], // only at a site holding a rest particle
-        GravityWording::AnyMover | GravityWording::UpToRest => u64::MAX,
+        // `rest-ahead`: the turns the state allows; the engine keeps those
+        // with a rest particle ahead (neighbours are not in the word)
+        GravityWording::AnyMover | GravityWording::UpToRest | GravityWording::RestAhead => u64::MAX,
     };
     Moves {
         fall: s[0] & !s[4],
@@ -256,8 +267,16 @@ mod tests {
 
     #[test]
     fn every_state_collides_as_the_table_says_for_every_uniform_draw() {
-        for p in [0.0, 1e-12, 0.1, 0.5, 0.9, 1.0] {
-            let table = CollisionTable::new(p);
+        let fhp: crate::pipe::Rules = "ph94+fhp-rest".parse().unwrap();
+        for (p, fhp_rest) in [0.0, 1e-12, 0.1, 0.5, 0.9, 1.0]
+            .into_iter()
+            .flat_map(|p| [(p, false), (p, true)])
+        {
+            let table = if fhp_rest {
+                CollisionTable::for_rules(p, fhp)
+            } else {
+                CollisionTable::new(p)
+            };
             let t = CollisionThresholds::new(&table);
             // every boundary of every cumulative threshold, and the ends
             let mut us: Vec<u64> = vec![0, (1 << 32) - 1];
@@ -274,7 +293,7 @@ mod tests {
                     r3: [lt(t.r3[0]), lt(t.r3[1]), lt(t.r3[2])],
                 };
                 for (h, w) in all_states().iter().enumerate() {
-                    let k = classify(w);
+                    let k = classify(w, fhp_rest);
                     let out = collide(w, &k, &d);
                     for j in 0..64 {
                         let s = 64 * h + j;
@@ -284,7 +303,7 @@ mod tests {
                         assert_eq!(
                             (lane(&out.state, j), extra as u8),
                             (o.state, o.extra),
-                            "p {p} u {u} state {s:#09b}"
+                            "p {p} fhp {fhp_rest} u {u} state {s:#09b}"
                         );
                     }
                 }
@@ -298,6 +317,7 @@ mod tests {
             GravityWording::Ph94,
             GravityWording::AnyMover,
             GravityWording::UpToRest,
+            GravityWording::RestAhead,
         ] {
             let table = crate::pipe::reference::gravity_table(wording);
             // each subset of the four move kinds drawn true

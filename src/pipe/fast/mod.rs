@@ -31,7 +31,7 @@ use super::collision::{bit, threshold, CollisionTable, Entry};
 use super::engine::{EngineBuilder, PipeEngine};
 use super::order::{self, SubSteps};
 use super::relocation;
-use super::{Boundary, Flux, Params, Rules};
+use super::{Boundary, Flux, GravityWording, Params, Rules};
 use crate::error::{check_unit, Result};
 use crate::lattice::neighbour;
 use grid::{bit_range, site_totals, Grid, Word};
@@ -107,6 +107,9 @@ pub struct FastPipe {
     bin_start: Vec<usize>,
     /// Sites (y W + x) of the extra rest particles of this step.
     extras: Vec<u64>,
+    /// `rest-ahead`: per word (as `grid.cells()`), the lanes whose mover 2,
+    /// and whose mover 6, has a rest particle ahead at the start of gravity.
+    ahead: Vec<(u64, u64)>,
     time: u64,
     flux: Flux,
 }
@@ -117,6 +120,7 @@ impl FastPipe {
     /// probability rho/6; the open pipe starts empty).
     pub fn new(params: Params, rules: Rules, seed: u64) -> Result<Self> {
         params.validate()?;
+        rules.validate()?;
         let (w, l) = (params.width, params.length);
         let mut pipe = FastPipe {
             params,
@@ -135,6 +139,7 @@ impl FastPipe {
             segments: Vec::new(),
             bin_start: Vec::new(),
             extras: Vec::new(),
+            ahead: Vec::new(),
             time: 0,
             flux: Flux::default(),
         };
@@ -279,9 +284,9 @@ impl SubSteps for FastPipe {
     fn collide(&mut self) -> Result<()> {
         self.extras.clear();
         let (w, words) = (self.params.width as u64, self.grid.words());
-        let t = self.collision;
+        let (t, fhp_rest) = (self.collision, self.rules.fhp_rest);
         for (i, s) in self.grid.cells_mut().iter_mut().enumerate() {
-            let k = logic::classify(s);
+            let k = logic::classify(s, fhp_rest);
             if k.any() == 0 {
                 continue;
             }
@@ -313,14 +318,23 @@ impl SubSteps for FastPipe {
 
     /// Gravity step (MODEL.md A5): the moves possible before gravity, each
     /// made with probability g (an independent draw per particle), then
-    /// `rest-slide` if named.
+    /// `rest-slide` if named. With `rest-ahead` a mover turns only where
+    /// its neighbour ahead holds a rest particle before the sub-step.
     fn gravity(&mut self) {
         if self.g_t == 0 {
             return;
         }
         let (g, wording, slide) = (self.g_t, self.rules.gravity, self.rules.rest_slide);
-        for s in self.grid.cells_mut().iter_mut() {
-            let m = logic::gravity_moves(s, wording);
+        let ahead_only = wording == GravityWording::RestAhead;
+        if ahead_only {
+            self.find_rest_ahead();
+        }
+        for (i, s) in self.grid.cells_mut().iter_mut().enumerate() {
+            let mut m = logic::gravity_moves(s, wording);
+            if ahead_only {
+                m.turn2 &= self.ahead[i].0;
+                m.turn6 &= self.ahead[i].1;
+            }
             // 0 -> 4 needs a rest particle, 1 -> 0 its absence: one draw
             let falls = lanes::bernoulli(&mut self.rng, g, m.fall | m.stop);
             let (turn2, turn6) = lanes::bernoulli_pair(&mut self.rng, g, m.turn2, m.turn6);
@@ -416,6 +430,20 @@ impl FastPipe {
             rest_now,
             self.time,
         )
+    }
+
+    /// `rest-ahead` (READINGS.md P7): for every word, from the state before
+    /// any gravity move, the lanes whose up-movers 2 and 6 have a rest
+    /// particle on their next site ([`Grid::rest_ahead`]).
+    fn find_rest_ahead(&mut self) {
+        let periodic = self.params.boundary == Boundary::Periodic;
+        let words = self.grid.words();
+        self.ahead.clear();
+        for x in 0..self.params.width {
+            for k in 0..words {
+                self.ahead.push(self.grid.rest_ahead(x, k, periodic));
+            }
+        }
     }
 
     /// `rest-slide` (MODEL.md A5): a rest particle blocked by an occupied
@@ -620,9 +648,10 @@ impl PipeEngine for FastPipe {
 }
 
 /// Builds [`FastPipe`] runs: the engine `fast` of `validate` and the figures.
-/// Every rule reading of [`Rules`] is supported (all three gravity
-/// wordings, `wall-drag`, `gravity-first`, `rest-up`, `wall-move`,
-/// `rest-slide`), so `build` fails only on invalid parameters.
+/// Every rule reading of [`Rules`] is supported (all four gravity
+/// wordings, `wall-drag`, `gravity-first`, `gravity-last`, `rest-up`,
+/// `wall-move`, `rest-slide`, `fhp-rest`), so `build` fails only on invalid
+/// parameters or an invalid reading.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Fast;
 
