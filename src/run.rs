@@ -318,6 +318,18 @@ impl Check {
         self
     }
 
+    /// The measured value and its standard error as text: `m +- e`, or
+    /// `no value` when there is none (e.g. no valid run), never `NaN`.
+    pub fn value_text(&self) -> String {
+        if self.measured.is_finite() && self.error.is_finite() {
+            format!("{:.4} +- {:.4}", self.measured, self.error)
+        } else if self.measured.is_finite() {
+            format!("{:.4} (no standard error)", self.measured)
+        } else {
+            "no value".to_string()
+        }
+    }
+
     /// One line for the terminal.
     pub fn line(&self) -> String {
         let target = match (self.claim, self.published) {
@@ -328,7 +340,7 @@ impl Check {
             (None, None) => "(none)".to_string(),
         };
         format!(
-            "[{}] {} ({}): measured {:.4} +- {:.4} ({} runs), claim {} {}",
+            "[{}] {} ({}): measured {} ({} runs), claim {} {}",
             match self.verdict {
                 Verdict::Reproduced => "PASS",
                 Verdict::NotReproduced => "FAIL",
@@ -336,8 +348,7 @@ impl Check {
             },
             self.name,
             self.kind.name(),
-            self.measured,
-            self.error,
+            self.value_text(),
             self.runs,
             target,
             self.note
@@ -751,6 +762,34 @@ mod tests {
         s.sort();
         s.dedup();
         assert_eq!(s.len(), 17);
+    }
+
+    #[test]
+    fn a_check_without_a_value_prints_no_nan() {
+        let none = Check::published(
+            "x",
+            "test",
+            Estimate::of(&[]),
+            Claim::Within {
+                target: 1.0,
+                margin: 0.1,
+            },
+            "no valid run",
+        );
+        assert_eq!(none.verdict, Verdict::Undecided);
+        assert!(!none.line().contains("NaN"), "{}", none.line());
+        assert!(none.line().contains("no value (0 runs)"), "{}", none.line());
+        let some = Check::published(
+            "x",
+            "test",
+            Estimate::new(1.0, 0.01, 4),
+            Claim::Within {
+                target: 1.0,
+                margin: 0.1,
+            },
+            "",
+        );
+        assert!(some.line().contains("1.0000 +- 0.0100 (4 runs)"));
     }
 
     #[test]

@@ -385,11 +385,10 @@ fn from_checks(claim: &str, checks: &[Check]) -> Graded {
             .iter()
             .map(|c| {
                 format!(
-                    "{} {}: {:.4} +- {:.4} ({} runs; {})",
+                    "{} {}: {} ({} runs; {})",
                     c.name,
                     c.verdict.label(),
-                    c.measured,
-                    c.error,
+                    c.value_text(),
                     c.runs,
                     c.note
                 )
