@@ -131,13 +131,13 @@ fn random_walk(
     for _ in 0..bound {
         let (x0, y0) = (x as i64, y as i64);
         let steps = &hop[x % 2];
-        // the valid directions as a mask (bit k: direction k + 1), computed
-        // without branches; the hop is the below(n)-th of the n valid ones
         let interior = x0 >= 1 && x0 < w - 1 && (periodic || (y0 >= 1 && y0 < l - 1));
         let (dx, dy) = if interior {
             // all six valid: direction below(6) + 1, as the enumeration gives
             steps[below(6) as usize]
         } else {
+            // the valid directions as a mask (bit k: direction k + 1), computed
+            // without branches; the hop is the below(n)-th of the n valid ones
             let mut valid = 0usize;
             for (k, &(dx, dy)) in steps.iter().enumerate() {
                 let (nx, ny) = (x0 + dx, y0 + dy);
@@ -172,4 +172,19 @@ fn random_walk(
             params.width, params.length, params.rho, params.p
         ),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::PICK;
+
+    #[test]
+    fn pick_lists_the_set_bits_in_order() {
+        assert_eq!(PICK[0b11_1111], [0, 1, 2, 3, 4, 5]);
+        assert_eq!(PICK[0b10_1000][..2], [3, 5]);
+        for (m, pick) in PICK.iter().enumerate() {
+            let bits: Vec<u8> = (0..6).filter(|i| m >> i & 1 == 1).collect();
+            assert_eq!(pick[..bits.len()], bits[..], "mask {m:06b}");
+        }
+    }
 }
