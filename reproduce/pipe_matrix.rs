@@ -55,10 +55,15 @@ fn find<'a>(graded: &'a [Graded], id: &str) -> Option<&'a Graded> {
     graded.iter().find(|g| g.claim == id)
 }
 
-/// The measured value of a cell: `m +- e`, or `n/5 agree` for the density window.
+/// The measured value of a cell: `m +- e`, `n/5 agree` for the density
+/// window, `no value` when nothing was measured (never `NaN`).
 fn value(g: &Graded) -> String {
-    if g.claim == "rho_window" {
+    if !g.measured.is_finite() {
+        "no value".to_string()
+    } else if g.claim == "rho_window" {
         format!("{:.0}/5 agree", g.measured)
+    } else if !g.error.is_finite() {
+        format!("{:.3}", g.measured)
     } else {
         format!("{:.3} +- {:.3}", g.measured, g.error)
     }
@@ -254,18 +259,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 (FONT, 18),
             ))
             .map_err(plot_err)?;
-            root.draw(&Text::new(
-                format!("{:.3}", g.measured),
-                (x + 6, y + 24),
-                (FONT, 14),
-            ))
-            .map_err(plot_err)?;
-            root.draw(&Text::new(
-                format!("+- {:.3}", g.error),
-                (x + 6, y + 39),
-                (FONT, 13),
-            ))
-            .map_err(plot_err)?;
+            let text = value(g);
+            let (m, e) = text.split_once(" +- ").unwrap_or((text.as_str(), ""));
+            root.draw(&Text::new(m.to_string(), (x + 6, y + 24), (FONT, 14)))
+                .map_err(plot_err)?;
+            if !e.is_empty() {
+                root.draw(&Text::new(format!("+- {e}"), (x + 6, y + 39), (FONT, 13)))
+                    .map_err(plot_err)?;
+            }
         }
     }
     root.draw(&Text::new(

@@ -147,9 +147,12 @@ impl PipeRules {
         self.rules.parse()
     }
 
-    /// Parse `--engine`.
+    /// Parse `--engine`; the chart titles drawn from then on name it
+    /// (`[reference engine]`, `[fast engine]`).
     pub fn engine(&self) -> crate::Result<crate::pipe::engine::Engine> {
-        self.engine.parse()
+        let e: crate::pipe::engine::Engine = self.engine.parse()?;
+        crate::plot::set_caption_note(&format!("{e} engine"));
+        Ok(e)
     }
 
     /// Start figure `binary` reproducing `paper` with these rules and the

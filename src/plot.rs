@@ -10,12 +10,32 @@ use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 use std::path::Path;
-use std::sync::Once;
+use std::sync::{Once, RwLock};
 
 /// Font family name under which the embedded font is registered.
 pub const FONT: &str = "sans-serif";
 
 static REGISTER: Once = Once::new();
+
+/// Text appended in brackets to every chart title this process draws (e.g.
+/// `fast engine`), so that a PNG names what made it; empty: nothing.
+static CAPTION_NOTE: RwLock<String> = RwLock::new(String::new());
+
+/// Append `[note]` to every chart title drawn from now on (empty: none). The
+/// figure plumbing sets the pipe engine here (`cli::PipeRules::engine`).
+pub fn set_caption_note(note: &str) {
+    if let Ok(mut n) = CAPTION_NOTE.write() {
+        *n = note.to_string();
+    }
+}
+
+/// `title` with the caption note of [`set_caption_note`], if any.
+pub fn captioned(title: &str) -> String {
+    match CAPTION_NOTE.read() {
+        Ok(n) if !n.is_empty() => format!("{title} [{n}]"),
+        _ => title.to_string(),
+    }
+}
 
 /// Register the embedded DejaVu Sans font with plotters (idempotent).
 pub fn register_fonts() {
@@ -64,7 +84,8 @@ pub fn chart_builder<'a, 'b, DB: DrawingBackend>(
     y_labels: u32,
 ) -> ChartBuilder<'a, 'b, DB> {
     let mut builder = ChartBuilder::on(root);
-    let size = caption_size(title, root.dim_in_pixel().0, 20.0);
+    let title = captioned(title);
+    let size = caption_size(&title, root.dim_in_pixel().0, 20.0);
     builder
         .caption(title, (FONT, size))
         .margin(15)
@@ -366,10 +387,11 @@ impl SpaceTime<'_> {
             (t_first, t_last)
         };
         let height = nb as f64 * self.rows_per_bin;
+        let title = captioned(title);
         let mut chart = ChartBuilder::on(area)
             .caption(
-                title,
-                (FONT, caption_size(title, area.dim_in_pixel().0, 17.0)),
+                &title,
+                (FONT, caption_size(&title, area.dim_in_pixel().0, 17.0)),
             )
             .margin(8)
             .x_label_area_size(40)
@@ -679,6 +701,20 @@ pub fn errorbar_chart_at(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The engine named by `--engine` reaches every chart title (a PNG from
+    /// the fast engine must not look like one from the reference).
+    #[test]
+    fn the_caption_note_names_the_engine() {
+        let args = crate::cli::PipeRules {
+            rules: "default".to_string(),
+            engine: "fast".to_string(),
+        };
+        args.engine().unwrap();
+        assert_eq!(captioned("PH95 Fig. 12"), "PH95 Fig. 12 [fast engine]");
+        set_caption_note("");
+        assert_eq!(captioned("PH95 Fig. 12"), "PH95 Fig. 12");
+    }
 
     #[test]
     fn the_legend_goes_to_a_corner_without_points() {

@@ -256,6 +256,9 @@ fn dense_states_agree_wherever_the_step_is_certain() {
         "rest-ahead+gravity-first+wall-move+fhp-rest",
         "ph94+gravity-last+wall-move+fhp-rest",
         "rest-ahead+gravity-last+rest-slide",
+        "default+inject-down",
+        "ph94+wall-drag+wall-move+inject-late",
+        "rest-ahead+gravity-last+inject-down+inject-late",
     ];
     for (w, l) in [(1, 7), (2, 9), (3, 65), (11, 13)] {
         for open in [false, true] {
@@ -338,6 +341,42 @@ fn gravity_last_makes_a_rest_particle_fall_in_place() {
     for rules in ["default", "ph94", "rest-ahead+gravity-first+wall-move"] {
         assert_eq!(after_one_step(p, rules, &init), [(2, 3, 1 << 4)], "{rules}");
     }
+}
+
+/// `inject-down` (READINGS.md P17): at I = 1 on an empty open pipe (p = g
+/// = b = 0) one step leaves exactly one down-mover on every site of row L -
+/// 2; injecting channels 3, 4, 5 (the default) puts 3 W particles in.
+#[test]
+fn inject_down_fills_only_the_channel_straight_down() {
+    let mut p = params(5, 9, true, 0.0, 0.0, 0.0);
+    p.boundary = Boundary::Open { inject: 1.0 };
+    let want: Vec<_> = (0..5).map(|x| (x, 7, 1 << 4)).collect();
+    for rules in ["default+inject-down", "ph94+inject-down+inject-late"] {
+        assert_eq!(after_one_step(p, rules, &[]), want, "{rules}");
+    }
+    let n = |v: Vec<(usize, usize, u8)>| v.iter().map(|s| s.2.count_ones()).sum::<u32>();
+    assert_eq!(n(after_one_step(p, "default", &[])), 15);
+}
+
+/// `inject-late` (READINGS.md P18): a rest particle on the top row, I = 1,
+/// `inject-down` and `fhp-rest`, g = 0. Injected at the start of the step,
+/// the down-mover meets the rest particle, {0, 4} becomes {3, 5}, and the
+/// pair leaves diagonally; injected late, the collision step has passed, the
+/// rest particle stays and the down-mover goes straight down.
+#[test]
+fn inject_late_skips_the_collision_in_the_top_row() {
+    let mut p = params(5, 9, true, 0.5, 0.0, 0.0);
+    p.boundary = Boundary::Open { inject: 1.0 };
+    let init = [(2, 8, 1)];
+    let has = |v: &[(usize, usize, u8)], x, y, c: usize| {
+        v.iter().any(|s| (s.0, s.1) == (x, y) && s.2 & 1 << c != 0)
+    };
+    let early = after_one_step(p, "default+inject-down+fhp-rest", &init);
+    assert!(has(&early, 1, 7, 3) && has(&early, 3, 7, 5), "{early:?}");
+    assert!(!has(&early, 2, 8, 0) && !has(&early, 2, 7, 4), "{early:?}");
+    let late = after_one_step(p, "default+inject-down+fhp-rest+inject-late", &init);
+    assert!(has(&late, 2, 8, 0) && has(&late, 2, 7, 4), "{late:?}");
+    assert!(!has(&late, 1, 7, 3) && !has(&late, 3, 7, 5), "{late:?}");
 }
 
 /// `fhp-rest` (READINGS.md P4): {rest, up} at (2, 4) becomes {up-left,
@@ -628,8 +667,9 @@ fn runs_repeat_and_seeds_differ() {
     assert_ne!(run(5), run(6));
 }
 
-/// Every reading runs and conserves particles; the one invalid combination,
-/// `gravity-first` with `gravity-last`, is refused with a typed error.
+/// Every reading runs and conserves particles (in the open pipe: injected -
+/// out = N(t) - N(0)); the one invalid combination, `gravity-first` with
+/// `gravity-last`, is refused with a typed error.
 #[test]
 fn every_reading_is_supported() {
     for gravity in [
@@ -638,7 +678,7 @@ fn every_reading_is_supported() {
         GravityWording::UpToRest,
         GravityWording::RestAhead,
     ] {
-        for flags in 0..128u32 {
+        for flags in 0..512u32 {
             let rules = Rules {
                 gravity,
                 wall_drag: flags & 1 != 0,
@@ -652,21 +692,28 @@ fn every_reading_is_supported() {
                 rest_slide: flags & 16 != 0,
                 gravity_last: flags & 32 != 0,
                 fhp_rest: flags & 64 != 0,
+                inject_down: flags & 128 != 0,
+                inject_late: flags & 256 != 0,
             };
             if rules.gravity_first && rules.gravity_last {
                 let e = Fast.build(Params::default(), rules, SEED).err().unwrap();
                 assert!(e.message.contains("gravity-last"), "{}", e.message);
                 continue;
             }
-            let p = Params {
-                length: 40,
-                width: 5,
-                ..Params::default()
-            };
-            let mut e = Fast.build(p, rules, SEED).unwrap();
-            let n = e.particle_count();
-            e.run(50).unwrap();
-            assert_eq!(e.particle_count(), n, "{rules}");
+            for boundary in [Boundary::Periodic, Boundary::Open { inject: 0.5 }] {
+                let p = Params {
+                    length: 40,
+                    width: 5,
+                    boundary,
+                    ..Params::default()
+                };
+                let mut e = Fast.build(p, rules, SEED).unwrap();
+                let n = e.particle_count() as i128;
+                e.run(50).unwrap();
+                let f = e.flux();
+                let net = f.injected as i128 - f.out_bottom as i128 - f.out_top as i128;
+                assert_eq!(e.particle_count() as i128, n + net, "{rules} {boundary:?}");
+            }
         }
     }
 }

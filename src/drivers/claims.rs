@@ -173,8 +173,10 @@ pub const WAVE_THRESHOLD: f64 = 2.0;
 /// sqrt(SE^2 + e^2)"), 2: the equivalence test [`equivalent`] with 2 SE,
 /// 3: the one rule of [`crate::analysis::grading`] (k = max(2, t(0.975, n-1))
 /// SE, fewer than 3 runs undecided); 4: the same rule, 28 claims instead of
-/// 11 (issue 14, session 7).
-pub const GRADING_VERSION: u32 = 4;
+/// 11 (issue 14, session 7); 5: a censored I_c (no rate up to 1 clogs)
+/// can no longer reproduce `i_c_size` or `i_c_params` by a difference of
+/// two bounds, and leaves `one_over_f_ic` undecided (session 9).
+pub const GRADING_VERSION: u32 = 5;
 
 /// Agreement margin Delta of the alpha claims ("alpha near 4/3", "white
 /// noise, alpha about 0"): |alpha - target| <= 0.1, a third of the way from
@@ -956,14 +958,19 @@ fn fig12_group(
     };
     let i_lo = i_c - err;
     let spec_seeds: Vec<u64> = seeds.iter().copied().take(size.runs).collect();
-    let near = spectrum_point(
-        model,
-        size,
-        &format!("I{i_lo:.4}"),
-        at(i_lo),
-        &spec_seeds,
-        tick,
-    )?;
+    // half-width 0: no rate up to 1 clogs, so there is no I_c to measure at
+    let near = if err > 0.0 {
+        Some(spectrum_point(
+            model,
+            size,
+            &format!("I{i_lo:.4}"),
+            at(i_lo),
+            &spec_seeds,
+            tick,
+        )?)
+    } else {
+        None
+    };
     let half = spectrum_point(
         model,
         size,
@@ -972,16 +979,22 @@ fn fig12_group(
         &spec_seeds,
         tick,
     )?;
-    out.push(from_checks(
-        "one_over_f_ic",
-        &[alpha_check(
-            "one_over_f_at_i_c",
-            "PH95 Fig. 12a-b (1/f noise at I_c)",
-            &near,
-            1.0,
-            ALPHA_MARGIN,
-        )],
-    ));
+    out.push(match &near {
+        Some(near) => from_checks(
+            "one_over_f_ic",
+            &[alpha_check(
+                "one_over_f_at_i_c",
+                "PH95 Fig. 12a-b (1/f noise at I_c)",
+                near,
+                1.0,
+                ALPHA_MARGIN,
+            )],
+        ),
+        None => undecided(
+            "one_over_f_ic",
+            &format!("I_c not bracketed: no rate up to {i_c} clogs, so there is no I_c to measure the spectrum at"),
+        ),
+    });
     out.push(from_checks(
         "white_half_ic",
         &[alpha_check(

@@ -4,7 +4,7 @@
 //! speed from the peak of C(R, T), the trend test of N(t) over an ensemble
 //! of runs, and the checks graded by the one rule.
 
-use crate::analysis::grading::{Claim, Estimate, Kind, MIN_RUNS};
+use crate::analysis::grading::{Claim, Estimate, Kind, Verdict, MIN_RUNS};
 use crate::error::Result;
 use crate::pipe::engine::Engine;
 use crate::pipe::open::{correlation, open_run, peak_index, stationarity, Stationarity};
@@ -281,9 +281,12 @@ pub fn trend_test(
 
 /// PH95 Fig. 12, I_c = 0.52: the bisection's I_c (`i_c`, its final
 /// half-width as the error, `runs` runs per tested rate) within
-/// [`I_C_MARGIN`] of 0.52, at the pipe `pipe` (e.g. "L = 220, W = 11").
+/// [`I_C_MARGIN`] of 0.52, at the pipe `pipe` (e.g. "L = 220, W = 11"). A
+/// half-width of 0 means no rate in the bisection's range clogged
+/// ([`crate::pipe::open::bisect_ic`]): I_c is then a lower bound, which
+/// decides "not reproduced" when it lies beyond the margin and nothing else.
 pub fn ic_check(i_c: (f64, f64), runs: usize, pipe: &str) -> Check {
-    Check::published(
+    let mut c = Check::published(
         "i_c",
         "PH95 Fig. 12 (I_c = 0.52)",
         Estimate::new(i_c.0, i_c.1, runs),
@@ -292,12 +295,38 @@ pub fn ic_check(i_c: (f64, f64), runs: usize, pipe: &str) -> Check {
             margin: I_C_MARGIN,
         },
         &format!("critical injection rate by bisection at {pipe}; error = bisection half-width; margin Delta = {I_C_MARGIN}"),
-    )
+    );
+    if i_c.1 == 0.0 {
+        censor(
+            &mut c,
+            i_c.0 >= 0.52,
+            &format!("no rate up to {} clogs, so I_c >= {}", i_c.0, i_c.0),
+        );
+    }
+    c
+}
+
+/// Marks `c` as graded on a censored I_c (a bisection whose whole range was
+/// stationary): a verdict stands only when the bound can decide it, i.e.
+/// "not reproduced" with the bound on the far side (`bound_decides`);
+/// otherwise the check is undecided.
+fn censor(c: &mut Check, bound_decides: bool, why: &str) {
+    if !(bound_decides && c.verdict == Verdict::NotReproduced) {
+        c.verdict = Verdict::Undecided;
+        c.pass = false;
+    }
+    c.note.push_str(&format!("; I_c not bracketed: {why}"));
 }
 
 /// PH95 Sec. III I, "I_c is independent of the model parameters and the
 /// system size": the largest |I_c(other) - I_c(main)| over `others` (label,
 /// I_c, half-width), half-widths combined, within [`I_C_MARGIN`] of 0.
+///
+/// An I_c with half-width 0 is censored (no rate up to the end of the
+/// bisection clogs; the true I_c lies at or beyond it, past every bracketed
+/// one). Every measured |difference| is then at most the true one (two
+/// censored values measure 0), so it can decide "not reproduced" but never
+/// "reproduced": the check is undecided unless it is not reproduced.
 pub fn ic_independence_check(
     name: &str,
     what: &str,
@@ -310,7 +339,7 @@ pub fn ic_independence_check(
         .map(|(l, i, e)| (Estimate::new(i - main.0, e.hypot(main.1), runs), l))
         .max_by(|a, b| a.0.mean.abs().total_cmp(&b.0.mean.abs()))
         .expect("at least one other I_c");
-    Check::published(
+    let mut c = Check::published(
         name,
         &format!("PH95 III I (I_c independent of {what})"),
         worst,
@@ -319,7 +348,22 @@ pub fn ic_independence_check(
             margin: I_C_MARGIN,
         },
         &format!("largest I_c(other) - I_c(main) over {what}, here {label}; bisection half-widths combined; margin Delta = {I_C_MARGIN}"),
-    )
+    );
+    let censored: Vec<&str> = std::iter::once(("main", main.1))
+        .chain(others.iter().map(|(l, _, e)| (l.as_str(), *e)))
+        .filter(|(_, e)| *e == 0.0)
+        .map(|(l, _)| l)
+        .collect();
+    if !censored.is_empty() {
+        // a censored I_c lies at or beyond the end of the range, past every
+        // bracketed one, so each |difference| measured is at most the true one
+        censor(
+            &mut c,
+            true,
+            &format!("no rate clogs at {}", censored.join(", ")),
+        );
+    }
+    c
 }
 
 /// PH95 Fig. 12c, "at I = 0.54 the particle number grows all the time"
@@ -339,4 +383,37 @@ pub fn clogs_check(s: &Stationarity, inject: f64) -> Check {
         ),
     )
     .with_published(CLOG_INJECT)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A censored I_c (half-width 0: no rate up to 1 clogged) never makes
+    /// the independence claims pass by a difference of two bounds (the
+    /// matrix graded `inject-down` so before session 9), but a bracketed pair
+    /// still can, and a large difference to a bound still fails.
+    #[test]
+    fn a_censored_i_c_never_reproduces_independence() {
+        let two_bounds = ic_independence_check("x", "g", (1.0, 0.0), &[("g".into(), 1.0, 0.0)], 4);
+        assert_eq!(
+            two_bounds.verdict,
+            Verdict::Undecided,
+            "{}",
+            two_bounds.note
+        );
+        assert!(two_bounds.note.contains("not bracketed"));
+        let bracketed =
+            ic_independence_check("x", "g", (0.5, 0.004), &[("g".into(), 0.5, 0.004)], 4);
+        assert_eq!(bracketed.verdict, Verdict::Reproduced);
+        let far = ic_independence_check("x", "g", (1.0, 0.0), &[("g".into(), 0.6, 0.004)], 4);
+        assert_eq!(far.verdict, Verdict::NotReproduced);
+        let near = ic_independence_check("x", "g", (1.0, 0.0), &[("g".into(), 0.99, 0.004)], 4);
+        assert_eq!(near.verdict, Verdict::Undecided);
+        assert_eq!(
+            ic_check((1.0, 0.0), 4, "here").verdict,
+            Verdict::NotReproduced
+        );
+        assert_eq!(ic_check((0.52, 0.0), 4, "here").verdict, Verdict::Undecided);
+    }
 }

@@ -11,7 +11,8 @@ pub(crate) trait SubSteps {
     fn params(&self) -> &Params;
     /// The rule reading of the run.
     fn rules(&self) -> Rules;
-    /// Injection at the top row of the open pipe (A7).
+    /// Injection at the top row of the open pipe (A7): channels 3, 4, 5, or
+    /// channel 4 alone with `inject-down` (READINGS.md P17).
     fn inject(&mut self);
     /// Collisions (A3), then the relocation of extra rest particles (A4).
     fn collide(&mut self) -> Result<()>;
@@ -27,13 +28,15 @@ pub(crate) trait SubSteps {
     fn tick(&mut self);
 }
 
-/// One time step (MODEL.md A2): injection (open pipe only); gravity then
-/// collisions with `gravity-first`, collisions alone with `gravity-last`,
-/// else collisions then gravity; `wall-drag` and `wall-move` if named;
-/// propagation; gravity with `gravity-last` (READINGS.md P9).
+/// One time step (MODEL.md A2): injection (open pipe only; with
+/// `inject-late` it comes after gravity instead, READINGS.md P18); gravity
+/// then collisions with `gravity-first`, collisions alone with
+/// `gravity-last`, else collisions then gravity; `wall-drag` and `wall-move`
+/// if named; propagation; gravity with `gravity-last` (READINGS.md P9).
 pub(crate) fn step(engine: &mut impl SubSteps) -> Result<()> {
     let rules = engine.rules();
-    if let Boundary::Open { .. } = engine.params().boundary {
+    let open = matches!(engine.params().boundary, Boundary::Open { .. });
+    if open && !rules.inject_late {
         engine.inject();
     }
     if rules.gravity_first {
@@ -44,6 +47,9 @@ pub(crate) fn step(engine: &mut impl SubSteps) -> Result<()> {
         if !rules.gravity_last {
             engine.gravity();
         }
+    }
+    if open && rules.inject_late {
+        engine.inject();
     }
     if rules.wall_drag {
         engine.wall_drag();

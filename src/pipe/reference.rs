@@ -336,12 +336,18 @@ impl<D: Draws> SubSteps for Pipe<D> {
     }
 
     /// Injection (A7, \[PH95 III I\]): each empty channel 3, 4, 5 of the top
-    /// row is filled with probability I, site by site from the left.
+    /// row (channel 4 alone with `inject-down`, READINGS.md P17) is filled
+    /// with probability I, site by site from the left.
     fn inject(&mut self) {
         let y = self.params.length - 1;
+        let channels: &[usize] = if self.rules.inject_down {
+            &[4]
+        } else {
+            &[3, 4, 5]
+        };
         for x in 0..self.params.width {
             let i = self.idx(x, y);
-            for c in [3, 4, 5] {
+            for &c in channels {
                 if self.cells[i] & bit(c) == 0 && self.rng.chance(self.inject_t) {
                     self.cells[i] |= bit(c);
                     self.flux.injected += 1;

@@ -112,6 +112,20 @@ pub struct Rules {
     /// collisions with a rest particle, (4) and (5), which happen with
     /// certainty. The inverse {c-1, c+1} is R2 of \[PH94 (2)\] and stays as it is.
     pub fhp_rest: bool,
+    /// `inject-down` (A7 variant, READINGS.md P17): the open pipe's
+    /// injection fills only channel 4, the one velocity straight down the
+    /// pipe, instead of every velocity with a downward component (3, 4, 5).
+    /// \[PH95 III I\] fills the empty states whose velocities point into the
+    /// pipe; on the triangular lattice that can mean the three downward
+    /// velocities or only the one along the pipe's axis.
+    pub inject_down: bool,
+    /// `inject-late` (A2/A7 variant, READINGS.md P18): the open pipe's
+    /// injection comes after the collisions and gravity, just before the
+    /// wall rules and propagation, so an injected particle leaves the top row
+    /// in its first step without colliding there. \[PH95 III I\] does not
+    /// place the injection in the step. (Injection after propagation is the
+    /// default shifted by a whole step, the same dynamics; READINGS.md P18.)
+    pub inject_late: bool,
 }
 
 impl Rules {
@@ -126,6 +140,8 @@ impl Rules {
         rest_slide: false,
         gravity_last: false,
         fhp_rest: false,
+        inject_down: false,
+        inject_late: false,
     };
 }
 
@@ -159,7 +175,7 @@ impl Default for Rules {
 }
 
 /// Every name understood by [`Rules::from_str`], with its meaning.
-pub const RULE_NAMES: [(&str, &str); 12] = [
+pub const RULE_NAMES: [(&str, &str); 14] = [
     (
         "default",
         "the project's default reading, ph94+gravity-first+wall-move (issue 4)",
@@ -199,6 +215,14 @@ pub const RULE_NAMES: [(&str, &str); 12] = [
         "fhp-rest",
         "a mover meeting a lone rest particle, {0, c}, leaves as {c-1, c+1}",
     ),
+    (
+        "inject-down",
+        "the open pipe injects only into channel 4 (straight down)",
+    ),
+    (
+        "inject-late",
+        "the open pipe injects just before the wall rules and propagation",
+    ),
 ];
 
 impl fmt::Display for Rules {
@@ -229,6 +253,12 @@ impl fmt::Display for Rules {
         }
         if self.fhp_rest {
             parts.push("fhp-rest");
+        }
+        if self.inject_down {
+            parts.push("inject-down");
+        }
+        if self.inject_late {
+            parts.push("inject-late");
         }
         write!(f, "{}", parts.join("+"))
     }
@@ -278,6 +308,14 @@ impl FromStr for Rules {
                 }
                 "fhp-rest" => {
                     r.fhp_rest = true;
+                    None
+                }
+                "inject-down" => {
+                    r.inject_down = true;
+                    None
+                }
+                "inject-late" => {
+                    r.inject_late = true;
                     None
                 }
                 other => {
@@ -330,8 +368,11 @@ mod tests {
                 "+rest-slide",
                 "+gravity-last",
                 "+fhp-rest",
-                "+wall-drag+gravity-first+rest-up+wall-move+rest-slide+fhp-rest",
-                "+wall-drag+rest-up+wall-move+rest-slide+gravity-last+fhp-rest",
+                "+inject-down",
+                "+inject-late",
+                "+wall-drag+gravity-first+rest-up+wall-move+rest-slide+fhp-rest+inject-down",
+                "+wall-drag+rest-up+wall-move+rest-slide+gravity-last+fhp-rest+inject-late",
+                "+gravity-first+inject-down+inject-late",
             ] {
                 let s = format!("{g}{extra}");
                 let r: Rules = s.parse().unwrap();

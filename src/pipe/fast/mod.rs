@@ -259,14 +259,20 @@ impl SubSteps for FastPipe {
     }
 
     /// Injection (MODEL.md A7): each empty channel 3, 4, 5 of the top row
-    /// is filled with probability I; the columns are taken 64 at a time.
+    /// (channel 4 alone with `inject-down`, READINGS.md P17) is filled with
+    /// probability I; the columns are taken 64 at a time.
     fn inject(&mut self) {
         let (w, l) = (self.params.width, self.params.length);
         let (k, j) = ((l - 1) / 64, (l - 1) % 64);
         let words = self.grid.words();
+        let channels: &[usize] = if self.rules.inject_down {
+            &[4]
+        } else {
+            &[3, 4, 5]
+        };
         for first in (0..w).step_by(64) {
             let n = (w - first).min(64);
-            for c in [3, 4, 5] {
+            for &c in channels {
                 let cells = self.grid.cells_mut();
                 let site = |x: usize| (first + x) * words + k;
                 let empty = (0..n).fold(0u64, |m, x| m | (!cells[site(x)][c] >> j & 1) << x);
