@@ -14,8 +14,8 @@ use clap::Parser;
 use granular_automata::analysis::grading::Kind;
 use granular_automata::cli::PipeArgs;
 use granular_automata::drivers::open_pipe::{
-    corr_run, corr_speed, fig11_pipe, fig11_speed_check, flows_check, CorrRun, FIG11_CORR,
-    FIG11_INJECT,
+    corr_run, corr_speed, fig11_pipe, fig11_speed_check, flows_check, CorrRun, CorrSpeed,
+    FIG11_CORR, FIG11_INJECT,
 };
 use granular_automata::ensemble::Outcome;
 use granular_automata::pipe::open::{open_run, peak_index, OpenRecord};
@@ -37,8 +37,9 @@ struct Args {
     #[arg(long, default_value_t = 40_000, allow_negative_numbers = true)]
     steps: u64,
     /// Only the correlation at I = 0.3: skip the published rate I = 0.5,
-    /// whose runs clog with the default reading (no waves-fig11a_I0.5.png,
-    /// no check paper_setup_flows, no clog metrics).
+    /// whose runs clogged with the default of sessions 2-8 (no
+    /// waves-fig11a_I0.5.png, no waves-fig11b_I0.5.png, no check
+    /// paper_setup_flows, no clog metrics).
     #[arg(long)]
     correlation_only: bool,
 }
@@ -145,46 +146,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let cs = corr_speed(corr, &FIG11_CORR, base.bin);
     let (up, down, upward, t_c_samples, t_c) =
         (&cs.up, &cs.down, cs.upward, cs.t_c_samples, cs.t_c);
-    let (main, dir) = if upward { (up, "up") } else { (down, "down") };
     let (v_corr, v_corr_err) = mean_sem(&cs.speeds);
-    let rows: Vec<Vec<f64>> = (0..=T_MAX)
-        .map(|t| vec![(t as u64 * EVERY) as f64, up[t], down[t]])
-        .collect();
-    out.write_csv("waves-fig11b.csv", &["T", "C_up", "C_down"], &rows)?;
-    let pts = |c: &[f64]| -> Vec<(f64, f64)> {
-        c.iter()
-            .enumerate()
-            .map(|(t, &y)| ((t as u64 * EVERY) as f64, y))
-            .collect()
-    };
-    line_chart(
-        &out.path("waves-fig11b.png"),
-        &format!(
-            "PH95 Fig. 11b: C(R = {R} bins, T), open pipe I = {I_CORR}, g = 0.2, mean of {} runs",
-            cs.valid
-        ),
-        "T (steps)",
-        "C(R, T) (fluctuations, per bin pair and sample)",
-        &[
-            Line::new(
-                &format!("R = +{R}: bin i+R above i (moving up)"),
-                pts(up),
-                PALETTE[0],
-            ),
-            Line::new(
-                &format!("R = -{R}: bin i+R below i (moving down)"),
-                pts(down),
-                PALETTE[1],
-            ),
-            Line::new(
-                &format!("peak T_c = {t_c} ({dir}), v = {v_corr:.3} +- {v_corr_err:.3}"),
-                vec![(t_c, main[t_c_samples])],
-                PALETTE[2],
-            )
-            .markers(),
-        ],
-        false,
-    )?;
+    draw_correlation(&out, "waves-fig11b", I_CORR, &cs)?;
 
     let book: u64 = paper
         .iter()
@@ -223,6 +186,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         checks.push(flows_check(paper, steps));
         let ps = corr_speed(paper, &FIG11_CORR, base.bin);
         metrics.insert("valid_runs_I0.5".into(), ps.valid as f64);
+        if ps.valid > 0 {
+            // the published panel's own set-up, once it flows
+            draw_correlation(&out, &format!("waves-fig11b_I{I_PAPER}"), I_PAPER, &ps)?;
+        }
         checks.push(fig11_speed_check(&ps, paper.len()));
     }
     // a qualitative claim of the mean curve over the valid runs: undecided
@@ -244,4 +211,59 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         checks,
     })?;
     Ok(())
+}
+
+/// C(+R, T) and C(-R, T) of `cs` (the open pipe at injection rate `inject`)
+/// as `<stem>.csv` and `<stem>.png`, with the peak and its speed.
+fn draw_correlation(
+    out: &Output,
+    stem: &str,
+    inject: f64,
+    cs: &CorrSpeed,
+) -> granular_automata::Result<()> {
+    let (up, down, t_c_samples, t_c) = (&cs.up, &cs.down, cs.t_c_samples, cs.t_c);
+    let (main, dir) = if cs.upward {
+        (up, "up")
+    } else {
+        (down, "down")
+    };
+    let (v_corr, v_corr_err) = mean_sem(&cs.speeds);
+    let rows: Vec<Vec<f64>> = (0..=T_MAX)
+        .map(|t| vec![(t as u64 * EVERY) as f64, up[t], down[t]])
+        .collect();
+    out.write_csv(&format!("{stem}.csv"), &["T", "C_up", "C_down"], &rows)?;
+    let pts = |c: &[f64]| -> Vec<(f64, f64)> {
+        c.iter()
+            .enumerate()
+            .map(|(t, &y)| ((t as u64 * EVERY) as f64, y))
+            .collect()
+    };
+    line_chart(
+        &out.path(&format!("{stem}.png")),
+        &format!(
+            "PH95 Fig. 11b: C(R = {R} bins, T), open pipe I = {inject}, g = 0.2, mean of {} runs",
+            cs.valid
+        ),
+        "T (steps)",
+        "C(R, T) (fluctuations, per bin pair and sample)",
+        &[
+            Line::new(
+                &format!("R = +{R}: bin i+R above i (moving up)"),
+                pts(up),
+                PALETTE[0],
+            ),
+            Line::new(
+                &format!("R = -{R}: bin i+R below i (moving down)"),
+                pts(down),
+                PALETTE[1],
+            ),
+            Line::new(
+                &format!("peak T_c = {t_c} ({dir}), v = {v_corr:.3} +- {v_corr_err:.3}"),
+                vec![(t_c, main[t_c_samples])],
+                PALETTE[2],
+            )
+            .markers(),
+        ],
+        false,
+    )
 }

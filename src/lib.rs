@@ -11,7 +11,7 @@
 //! - The **pipe lattice gas** of Peng & Herrmann (PH94, PH95): particles on a
 //!   triangular lattice in a vertical pipe, dissipative collisions (p),
 //!   gravity (g), rough walls (b). Engine and rule readings in [`pipe`]
-//!   ([`pipe::Pipe`], [`pipe::Rules`], default `ph94+gravity-first+wall-move`);
+//!   ([`pipe::Pipe`], [`pipe::Rules`], default `ph94+gravity-first+wall-move+inject-late`);
 //!   the open pipe in [`pipe::open`]; observables in [`pipe::observables`],
 //!   [`pipe::overlap`] and [`drivers::spectra`]; the graded claims in
 //!   [`drivers::claims`].

@@ -358,6 +358,37 @@ fn inject_down_fills_only_the_channel_straight_down() {
     assert_eq!(n(after_one_step(p, "default", &[])), 15);
 }
 
+/// The default includes `inject-late` (issue 14, session 9), which acts only
+/// in the open pipe: in the periodic pipe the default runs step for step as
+/// `ph94+gravity-first+wall-move`, the default of sessions 2-8, in both
+/// engines, so every periodic figure (among them the blind Figs. 9 and 10)
+/// is unchanged by the switch. In the open pipe the two differ.
+#[test]
+fn the_default_is_the_old_default_in_the_periodic_pipe() {
+    let old: Rules = "ph94+gravity-first+wall-move".parse().unwrap();
+    assert_ne!(Rules::default(), old);
+    for boundary in [Boundary::Periodic, Boundary::Open { inject: 0.4 }] {
+        let p = Params {
+            length: 60,
+            width: 5,
+            boundary,
+            ..Params::default()
+        };
+        let state = |b: &dyn EngineBuilder, r: Rules| {
+            let mut e = b.build(p, r, SEED).unwrap();
+            e.run(300).unwrap();
+            (0..5)
+                .flat_map(|x| (0..60).map(move |y| (x, y)))
+                .map(|(x, y)| e.site(x, y))
+                .collect::<Vec<u8>>()
+        };
+        for b in [&Reference as &dyn EngineBuilder, &Fast] {
+            let same = state(b, Rules::default()) == state(b, old);
+            assert_eq!(same, boundary == Boundary::Periodic, "{boundary:?}");
+        }
+    }
+}
+
 /// `inject-late` (READINGS.md P18): a rest particle on the top row, I = 1,
 /// `inject-down` and `fhp-rest`, g = 0. Injected at the start of the step,
 /// the down-mover meets the rest particle, {0, 4} becomes {3, 5}, and the
@@ -371,10 +402,14 @@ fn inject_late_skips_the_collision_in_the_top_row() {
     let has = |v: &[(usize, usize, u8)], x, y, c: usize| {
         v.iter().any(|s| (s.0, s.1) == (x, y) && s.2 & 1 << c != 0)
     };
-    let early = after_one_step(p, "default+inject-down+fhp-rest", &init);
+    let early = after_one_step(
+        p,
+        "ph94+gravity-first+wall-move+inject-down+fhp-rest",
+        &init,
+    );
     assert!(has(&early, 1, 7, 3) && has(&early, 3, 7, 5), "{early:?}");
     assert!(!has(&early, 2, 8, 0) && !has(&early, 2, 7, 4), "{early:?}");
-    let late = after_one_step(p, "default+inject-down+fhp-rest+inject-late", &init);
+    let late = after_one_step(p, "default+inject-down+fhp-rest", &init);
     assert!(has(&late, 2, 8, 0) && has(&late, 2, 7, 4), "{late:?}");
     assert!(!has(&late, 1, 7, 3) && !has(&late, 3, 7, 5), "{late:?}");
 }

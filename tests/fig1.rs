@@ -33,7 +33,7 @@ fn default_rules_form_waves_in_a_and_c_only_and_any_mover_fails() {
     for key in ["contrast_a", "contrast_d_err", "s_low_a", "s_low_d_err"] {
         assert!(s["metrics"][key].as_f64().unwrap().is_finite(), "{key}");
     }
-    assert_eq!(s["rules"], "ph94+gravity-first+wall-move");
+    assert_eq!(s["rules"], "ph94+gravity-first+wall-move+inject-late");
     // waves_c (bands return when p is switched on) varies most from run to
     // run (s_low_c = 8.7 +- 2.4 over the 4 quick runs): with k = t(0.975, 3)
     // = 3.18 the one grading rule leaves it undecided at the quick tier, so

@@ -6,15 +6,17 @@
 //! `any-mover+gravity-first`. `ph94` alone is the literal reading of
 //! MODEL.md A2-A6 (the default until session 2); `default` is the project's default, the reading that
 //! reproduces the most published claims in the reproduction matrix (issue 4,
-//! EXPERIMENTS.md "Reproducing Peng & Herrmann: which reading"):
-//! `ph94+gravity-first+wall-move`.
+//! EXPERIMENTS.md "Reproducing Peng & Herrmann: which reading"; issue 14,
+//! session 9): `ph94+gravity-first+wall-move+inject-late`. `inject-late`
+//! acts only in the open pipe, so in the periodic pipe the default is the
+//! reading `ph94+gravity-first+wall-move` of sessions 2-8, step for step.
 //!
 //! ```
 //! use granular_automata::pipe::Rules;
 //! let r: Rules = "any-mover+rest-up".parse().unwrap();
 //! assert_eq!(r.to_string(), "any-mover+rest-up");
 //! assert_eq!("default".parse::<Rules>().unwrap(), Rules::default());
-//! assert_eq!(Rules::default().to_string(), "ph94+gravity-first+wall-move");
+//! assert_eq!(Rules::default().to_string(), "ph94+gravity-first+wall-move+inject-late");
 //! assert_eq!(Rules::MODEL_MD.to_string(), "ph94");
 //! assert!("ph96".parse::<Rules>().is_err());
 //! ```
@@ -161,14 +163,18 @@ impl Rules {
 }
 
 impl Default for Rules {
-    /// The project's default (`default`, issue 4): `ph94+gravity-first+wall-move`,
-    /// chosen by the paper-tier reproduction matrix (EXPERIMENTS.md): it
-    /// reproduces PH94 Fig. 1 (all four panels), alpha of PH94 Fig. 2 and the
-    /// b = 0 peak at v = 1/2 of PH95 Fig. 7, one claim more than `ph94`.
+    /// The project's default (`default`): `ph94+gravity-first+wall-move`
+    /// (issue 4, chosen by the paper-tier reproduction matrix: PH94 Fig. 1,
+    /// alpha of PH94 Fig. 2, the b = 0 peak at v = 1/2 of PH95 Fig. 7) with
+    /// `inject-late` (issue 14, session 9: the open pipe's injection after
+    /// collisions and gravity; 14 of the matrix's 28 claims at the standard
+    /// tier against 12 without it, EXPERIMENTS.md "Issue 14: the injection
+    /// axes"). In the periodic pipe `inject-late` changes nothing.
     fn default() -> Self {
         Rules {
             gravity_first: true,
             wall_move: true,
+            inject_late: true,
             ..Rules::MODEL_MD
         }
     }
@@ -178,7 +184,7 @@ impl Default for Rules {
 pub const RULE_NAMES: [(&str, &str); 14] = [
     (
         "default",
-        "the project's default reading, ph94+gravity-first+wall-move (issue 4)",
+        "the project's default reading, ph94+gravity-first+wall-move+inject-late (issues 4, 14)",
     ),
     (
         "ph94",
@@ -276,6 +282,7 @@ impl FromStr for Rules {
                     let d = Rules::default();
                     r.gravity_first |= d.gravity_first;
                     r.wall_move |= d.wall_move;
+                    r.inject_late |= d.inject_late;
                     Some(d.gravity)
                 }
                 "ph94" => Some(GravityWording::Ph94),
