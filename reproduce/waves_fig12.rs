@@ -12,7 +12,7 @@
 //! `cargo run --release --bin waves-fig12 -- --tier quick`
 
 use clap::Parser;
-use granular_automata::analysis::grading::Kind;
+use granular_automata::analysis::grading::{Kind, Verdict};
 use granular_automata::cli::{Common, PipeArgs};
 use granular_automata::drivers::claims::ALPHA_MARGIN;
 use granular_automata::drivers::open_pipe::{
@@ -256,9 +256,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         })
         .collect();
-    // 1/f at I_c: the largest rate the bisection found stationary
+    // 1/f at I_c: the largest rate the bisection found stationary. A
+    // half-width of 0 means no rate up to 1 clogged: there is no I_c to
+    // measure at, and the check below is undecided.
     let i_lo = i_c - i_c_err;
-    if !args.no_spectra {
+    let bracketed = i_c_err > 0.0;
+    // rates above 1 are clamped to 1: run each rate once, and leave the
+    // lower end to its own point
+    let mut seen = vec![];
+    points.retain(|p| {
+        let i = p.x[0];
+        let fresh = !seen.contains(&i) && (!bracketed || i != i_lo);
+        seen.push(i);
+        fresh
+    });
+    if !args.no_spectra && bracketed {
         points.push(SweepPoint {
             label: format!("I{i_lo}_lower_end"),
             x: vec![i_lo, i_lo / i_c],
@@ -343,6 +355,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ic_check((i_c, i_c_err), runs, &format!("L = {l0}, W = {w0}")),
         clogs_check(&clog, CLOG_INJECT),
     ];
+    if !bracketed {
+        // 1.25 I_c was clamped to 1, which is not above the censored I_c
+        let c = checks
+            .iter_mut()
+            .find(|c| c.name == "growing_above_i_c")
+            .expect("made above");
+        if c.verdict == Verdict::NotReproduced {
+            c.verdict = Verdict::Undecided;
+        }
+        c.note.push_str(&format!(
+            "; I_c not bracketed: no rate up to {i_c} clogs, so no tested rate lies above I_c"
+        ));
+    }
     if ic.len() > 1 {
         let others: Vec<(String, f64, f64)> = ic[1..]
             .iter()
@@ -365,6 +390,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             near,
             1.0,
             ALPHA_MARGIN,
+        ));
+    } else if !args.no_spectra {
+        checks.push(Check::with_verdict(
+            "one_over_f_at_i_c",
+            Kind::Published,
+            "PH95 Fig. 12a-b (1/f noise at I_c)",
+            f64::NAN,
+            f64::NAN,
+            0,
+            Verdict::Undecided,
+            &format!("I_c not bracketed: no rate up to {i_c} clogs, so there is no I_c to measure the spectrum at"),
         ));
     }
     if let Some(half) = res.iter().find(|r| r.point.x[1] == 0.5) {

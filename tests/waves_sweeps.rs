@@ -252,3 +252,49 @@ fn fig12_a_wrong_reading_fails_the_pinned_critical_rate() {
         );
     }
 }
+
+/// A censored I_c: with `inject-down` (READINGS.md P17) the open pipe is a
+/// free fall and no rate up to 1 clogs, so the bisection returns I_c = 1 +- 0
+/// (session 9). Then no tested rate lies above I_c and there is no I_c to
+/// take a spectrum at: `growing_above_i_c` and `one_over_f_at_i_c` are
+/// undecided (never passed, never failed on a clamped rate), `i_c` is not
+/// reproduced (the bound 1 lies beyond the margin), and the rate 1 that
+/// 1.1 and 1.25 I_c are clamped to is run once.
+#[test]
+fn fig12_a_censored_critical_rate_decides_nothing_it_cannot() {
+    let rules = "default+inject-down";
+    let s = common::run_figure(
+        "waves-fig12",
+        env!("CARGO_BIN_EXE_waves-fig12"),
+        &args(&[
+            "--sizes",
+            "220x11",
+            "--bisections",
+            "3",
+            "--engine",
+            "fast",
+            "--rules",
+            rules,
+        ]),
+        "censored",
+        &["waves-fig12b.csv", "waves-fig12a.png"],
+    );
+    assert_eq!((metric(&s, "i_c"), metric(&s, "i_c_err")), (1.0, 0.0));
+    assert_eq!(common::verdict(&s, "i_c"), "not-reproduced");
+    assert_eq!(common::verdict(&s, "growing_above_i_c"), "undecided");
+    assert_eq!(common::verdict(&s, "one_over_f_at_i_c"), "undecided");
+    let rates: Vec<f64> = s["params"]["I_over_I_c"]
+        .as_array()
+        .expect("fractions")
+        .iter()
+        .map(|f| (f.as_f64().expect("a number") * 1000.0).round().min(1000.0))
+        .collect();
+    assert!(rates.contains(&1000.0), "some fraction is clamped to I = 1");
+    let csv = std::fs::read_to_string(
+        std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+            .join("waves-fig12-censored/waves-fig12/waves-fig12b.csv"),
+    )
+    .expect("csv");
+    let ones = csv.lines().filter(|l| l.starts_with("1,")).count();
+    assert_eq!(ones, 1, "the rate 1 is run once:\n{csv}");
+}
