@@ -14,8 +14,8 @@ use clap::Parser;
 use granular_automata::analysis::grading::Kind;
 use granular_automata::cli::PipeArgs;
 use granular_automata::drivers::open_pipe::{
-    corr_run, corr_speed, fig11_pipe, fig11_speed_check, flows_check, CorrRun, CorrSpeed,
-    FIG11_CORR, FIG11_INJECT,
+    corr_onset, corr_run, corr_speed, fig11_pipe, fig11_speed_check, flows_check, CorrRun,
+    CorrSpeed, FIG11_CORR, FIG11_INJECT,
 };
 use granular_automata::ensemble::Outcome;
 use granular_automata::pipe::open::{open_run, peak_index, OpenRecord};
@@ -53,6 +53,9 @@ const R: isize = FIG11_CORR.r;
 const EVERY: u64 = FIG11_CORR.every;
 const SKIP: usize = FIG11_CORR.skip;
 const T_MAX: usize = FIG11_CORR.t_max;
+/// Steps over which the rise of C(-R, T) is taken for its onset
+/// (exploratory metric, session 10).
+const ONSET_WINDOW: u64 = 50;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
@@ -191,6 +194,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             draw_correlation(&out, &format!("waves-fig11b_I{I_PAPER}"), I_PAPER, &ps)?;
         }
         checks.push(fig11_speed_check(&ps, paper.len()));
+        // exploratory, not a check: the onset of C(-R, T)'s steepest rise
+        // (pre-registered in session 10, EXPERIMENTS.md "Fig. 11: an onset
+        // statistic")
+        let on = corr_onset(paper, &FIG11_CORR, base.bin, ONSET_WINDOW);
+        let (t_on, t_on_err) = mean_sem(&on.t_on);
+        let (v_on, v_on_err) = mean_sem(&on.v_on);
+        metrics.insert("t_onset_down_I0.5".into(), t_on);
+        metrics.insert("t_onset_down_I0.5_err".into(), t_on_err);
+        metrics.insert("v_onset_down_I0.5".into(), v_on);
+        metrics.insert("v_onset_down_I0.5_err".into(), v_on_err);
+        metrics.insert("onset_runs_I0.5".into(), on.v_on.len() as f64);
+        metrics.insert(
+            "no_onset_runs_I0.5".into(),
+            (ps.valid - on.v_on.len()) as f64,
+        );
+        if let Some(t) = on.t_on_mean_curve {
+            metrics.insert("t_onset_down_mean_curve_I0.5".into(), t);
+        }
     }
     // a qualitative claim of the mean curve over the valid runs: undecided
     // with fewer than 3 of them (the one grading rule)

@@ -7,7 +7,9 @@
 use crate::analysis::grading::{Claim, Estimate, Kind, Verdict, MIN_RUNS};
 use crate::error::Result;
 use crate::pipe::engine::Engine;
-use crate::pipe::open::{correlation, open_run, peak_index, stationarity, Stationarity};
+use crate::pipe::open::{
+    correlation, onset_index, open_run, peak_index, stationarity, Stationarity,
+};
 use crate::pipe::{Boundary, Params, Rules};
 use crate::run::{ensemble, Check};
 use serde::{Deserialize, Serialize};
@@ -155,6 +157,49 @@ pub fn corr_speed(runs: &[CorrRun], setup: &CorrSetup, bin: usize) -> CorrSpeed 
         t_c_samples,
         speeds,
         valid: valid.len(),
+    }
+}
+
+/// The onset of the steepest rise of C(-R, T) (exploratory, session 10,
+/// EXPERIMENTS.md "Fig. 11: an onset statistic"): per unclogged run and on
+/// their mean curve, with the rise over `window_steps` steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CorrOnset {
+    /// T_on in steps of each run that has one.
+    pub t_on: Vec<f64>,
+    /// v_on = R * bin / T_on of each run with T_on > 0, in rows per step.
+    pub v_on: Vec<f64>,
+    /// Unclogged runs without an onset (no positive rise).
+    pub without: usize,
+    /// T_on of the mean curve, in steps.
+    pub t_on_mean_curve: Option<f64>,
+}
+
+/// [`CorrOnset`] of C(-R, T) over the unclogged `runs`.
+pub fn corr_onset(runs: &[CorrRun], setup: &CorrSetup, bin: usize, window_steps: u64) -> CorrOnset {
+    let window = (window_steps / setup.every) as usize;
+    let step = setup.every as f64;
+    let rows = (setup.r.unsigned_abs() * bin) as f64;
+    let valid: Vec<&CorrRun> = runs.iter().filter(|r| r.stopped_at.is_none()).collect();
+    let t_on: Vec<f64> = valid
+        .iter()
+        .filter_map(|r| onset_index(&r.down, window))
+        .map(|t| t as f64 * step)
+        .collect();
+    let v_on = t_on
+        .iter()
+        .filter(|&&t| t > 0.0)
+        .map(|t| rows / t)
+        .collect();
+    let mean = corr_speed(runs, setup, bin).down;
+    CorrOnset {
+        without: valid.len() - t_on.len(),
+        t_on,
+        v_on,
+        t_on_mean_curve: (!valid.is_empty())
+            .then(|| onset_index(&mean, window))
+            .flatten()
+            .map(|t| t as f64 * step),
     }
 }
 

@@ -185,9 +185,48 @@ pub fn peak_index(c: &[f64], from: usize) -> Option<usize> {
         .max_by(|&a, &b| c[a].total_cmp(&c[b]))
 }
 
+/// Index of the onset of the steepest rise of `c` (session 10,
+/// EXPERIMENTS.md "Fig. 11: an onset statistic"): with the rise over
+/// `window` samples s(t) = c(t + window) - c(t), the first t at which s(t)
+/// reaches half the largest s. None when no rise is positive or finite.
+pub fn onset_index(c: &[f64], window: usize) -> Option<usize> {
+    if window == 0 || c.len() <= window {
+        return None;
+    }
+    let rise: Vec<f64> = (0..c.len() - window)
+        .map(|t| c[t + window] - c[t])
+        .collect();
+    let top = rise
+        .iter()
+        .copied()
+        .filter(|s| s.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
+    if !(top > 0.0) {
+        return None;
+    }
+    rise.iter().position(|&s| s >= 0.5 * top)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn onset_is_the_first_half_steepest_rise() {
+        // flat, a slow rise, then a steep one from index 10
+        let c: Vec<f64> = (0..30)
+            .map(|t| match t {
+                0..5 => 0.0,
+                5..10 => 0.1 * (t - 5) as f64,
+                _ => 0.5 + (t - 10) as f64,
+            })
+            .collect();
+        // window 2: slow rises 0.2, steep ones 2; the first >= 1 starts at 9
+        assert_eq!(onset_index(&c, 2), Some(9));
+        assert_eq!(onset_index(&[3.0, 2.0, 1.0], 1), None);
+        assert_eq!(onset_index(&[1.0, 2.0], 2), None);
+        assert_eq!(onset_index(&[1.0, f64::NAN, 2.0], 1), None);
+    }
 
     #[test]
     fn pipe_sizes_parse() {
