@@ -201,7 +201,7 @@ pub fn onset_index(c: &[f64], window: usize) -> Option<usize> {
         .copied()
         .filter(|s| s.is_finite())
         .fold(f64::NEG_INFINITY, f64::max);
-    if !(top > 0.0) {
+    if top <= 0.0 {
         return None;
     }
     rise.iter().position(|&s| s >= 0.5 * top)
