@@ -8,6 +8,7 @@
 use clap::Parser;
 use granular_automata::cli::{parse_runs, PipeRules};
 use granular_automata::pipe::record::{bands, record};
+use granular_automata::pipe::stops::{count_stops, COUNTED};
 use granular_automata::pipe::Params;
 use granular_automata::run::{derive_seed, ensemble};
 
@@ -43,6 +44,10 @@ struct Args {
     /// Base seed.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     seed: u64,
+    /// Instead of the band statistics: which collision rule stops the movers
+    /// over the second half of each run (`pipe::stops`, reference engine).
+    #[arg(long)]
+    stops: bool,
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -59,6 +64,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..Params::default()
     };
     params.validate()?;
+    if a.stops {
+        return stops(&a, params, rules);
+    }
     let lines = ensemble(a.runs, |i| -> granular_automata::Result<String> {
         let seed = derive_seed(a.seed, i as u64);
         let mut pipe = engine.build(params, rules, seed)?;
@@ -68,6 +76,44 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "{rules} ({engine}) p={} b={} g={} rho={} L={} seed={seed}: C={:.3} s_low={:.2} var_ratio={:.3} channels(0..6)={:?}",
             a.p, a.b, a.g, a.rho, a.length, s.contrast, s.s_low, s.var_ratio, pipe.channel_counts()
         ))
+    });
+    for l in lines {
+        println!("{}", l?);
+    }
+    Ok(())
+}
+
+/// `--stops`: per run, the movers each rule stops per step over the second
+/// half, at the nucleation of a jam and on a jam (the site below holds a rest
+/// particle), and the share of the stops on jams made by the p-rules R2, R3.
+fn stops(
+    a: &Args,
+    params: Params,
+    rules: granular_automata::pipe::Rules,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let half = a.steps / 2;
+    let lines = ensemble(a.runs, |i| -> granular_automata::Result<String> {
+        let seed = derive_seed(a.seed, i as u64);
+        let c = count_stops(params, rules, seed, a.steps - half, half)?;
+        let per = |k: usize, j: usize| c.stopped[k][j] as f64 / c.steps as f64;
+        let mut line = format!(
+            "{rules} (reference) p={} b={} g={} rho={} L={} W={} seed={seed} stops per step [nucleation, on jam]:",
+            a.p, a.b, a.g, a.rho, a.length, a.width
+        );
+        for (k, r) in COUNTED.iter().enumerate() {
+            line.push_str(&format!(" {r:?} [{:.3}, {:.3}]", per(k, 0), per(k, 1)));
+        }
+        let [nucleation, on_jam] = c.total();
+        line.push_str(&format!(
+            "; elsewhere {}; all stops per step {:.3}, on a jam {:.3} of them; share by R2/R3 {:.3} (on jams {:.3}); rest particles {:.1}",
+            c.stopped_elsewhere,
+            (nucleation + on_jam) as f64 / c.steps as f64,
+            on_jam as f64 / (nucleation + on_jam).max(1) as f64,
+            c.p_rule_share(false),
+            c.p_rule_share(true),
+            c.rest_particles as f64 / c.steps as f64,
+        ));
+        Ok(line)
     });
     for l in lines {
         println!("{}", l?);

@@ -35,6 +35,7 @@ pub mod record;
 pub mod reference;
 pub mod relocation;
 pub mod rules;
+pub mod stops;
 
 pub use observables::Flux;
 pub use reference::Pipe;

@@ -34,16 +34,41 @@ pub(crate) trait SubSteps {
 /// `gravity-last`, else collisions then gravity; `wall-drag` and `wall-move`
 /// if named; propagation; gravity with `gravity-last` (READINGS.md P9).
 pub(crate) fn step(engine: &mut impl SubSteps) -> Result<()> {
+    step_observed(engine, &mut |_, _| {})
+}
+
+/// Where in a step an observer of [`step_observed`] looks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Stage {
+    /// Just before the collisions (after gravity with `gravity-first`).
+    BeforeCollide,
+    /// Just after the collisions and the relocation of their extra rest
+    /// particles.
+    AfterCollide,
+}
+
+/// [`step`], with `observe` called on the engine around the collisions (a
+/// diagnostic, e.g. [`crate::pipe::stops`]); it cannot change the run.
+pub(crate) fn step_observed<E: SubSteps>(
+    engine: &mut E,
+    observe: &mut impl FnMut(Stage, &E),
+) -> Result<()> {
     let rules = engine.rules();
     let open = matches!(engine.params().boundary, Boundary::Open { .. });
     if open && !rules.inject_late {
         engine.inject();
     }
+    let mut collide = |engine: &mut E| -> Result<()> {
+        observe(Stage::BeforeCollide, engine);
+        engine.collide()?;
+        observe(Stage::AfterCollide, engine);
+        Ok(())
+    };
     if rules.gravity_first {
         engine.gravity();
-        engine.collide()?;
+        collide(engine)?;
     } else {
-        engine.collide()?;
+        collide(engine)?;
         if !rules.gravity_last {
             engine.gravity();
         }

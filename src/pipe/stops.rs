@@ -1,0 +1,160 @@
+//! Which collision rule stops the movers (a diagnostic of the reference
+//! engine, session 10; EXPERIMENTS.md "Which rule stops the movers").
+//!
+//! A mover is stopped when a collision turns it into a rest particle: R2 and
+//! R3 do so with probability p (MODEL.md A3), R4 and R5 with certainty, and
+//! only where a rest particle already sits. The count says whether the jams
+//! of the lane grow by the p-rules or by the certain ones, the mechanism
+//! argued for `v_const_p` (EXPERIMENTS.md "The mechanism each unreproduced
+//! claim would need"). It observes the run through [`super::order`] and
+//! cannot change it.
+
+use super::collision::{Rule, MOVERS, REST_BIT};
+use super::order::{step_observed, Stage};
+use super::{Params, Pipe, Rules};
+use crate::error::Result;
+use serde::Serialize;
+
+/// The rules counted, in the order of [`StopCounts::stopped`].
+pub const COUNTED: [Rule; 5] = [Rule::R2, Rule::R3, Rule::R4, Rule::R5, Rule::R1];
+
+/// Stopped movers and rule matches over the observed steps of one run.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct StopCounts {
+    /// Steps observed.
+    pub steps: u64,
+    /// Movers stopped by each rule of [`COUNTED`] (movers before the
+    /// collision minus movers after, at the site), `[nucleation, on_jam]`:
+    /// on a jam when the site below held a rest particle before the
+    /// collisions.
+    pub stopped: [[u64; 2]; 5],
+    /// Sites that matched each rule of [`COUNTED`], `[nucleation, on_jam]`
+    /// (for R2 and R3 the stopped fraction is p).
+    pub matched: [[u64; 2]; 5],
+    /// Movers stopped at sites that matched no counted rule (0 when the
+    /// table is R1-R5).
+    pub stopped_elsewhere: u64,
+    /// Rest particles just before the collisions, summed over the steps.
+    pub rest_particles: u64,
+}
+
+impl StopCounts {
+    /// All movers stopped by the counted rules, `[nucleation, on_jam]`.
+    pub fn total(&self) -> [u64; 2] {
+        let mut t = [0; 2];
+        for k in self.stopped {
+            t[0] += k[0];
+            t[1] += k[1];
+        }
+        t
+    }
+
+    /// The share of the stops (all, or only those on a jam) made by the
+    /// p-rules R2 and R3; 0 when there is none.
+    pub fn p_rule_share(&self, on_jam_only: bool) -> f64 {
+        let pick = |k: [u64; 2]| if on_jam_only { k[1] } else { k[0] + k[1] };
+        let all = pick(self.total());
+        let p = pick(self.stopped[0]) + pick(self.stopped[1]);
+        if all == 0 {
+            0.0
+        } else {
+            p as f64 / all as f64
+        }
+    }
+}
+
+/// `steps` steps of the reference engine from `seed`, counting from step
+/// `skip` on.
+pub fn count_stops(
+    params: Params,
+    rules: Rules,
+    seed: u64,
+    skip: u64,
+    steps: u64,
+) -> Result<StopCounts> {
+    let mut pipe = Pipe::new(params, rules, seed)?;
+    for _ in 0..skip {
+        pipe.step()?;
+    }
+    let (w, l) = (params.width, params.length);
+    let mut before = vec![0u8; w * l];
+    let mut counts = StopCounts {
+        steps,
+        ..StopCounts::default()
+    };
+    for _ in 0..steps {
+        step_observed(&mut pipe, &mut |stage, p: &Pipe| match stage {
+            Stage::BeforeCollide => {
+                for x in 0..w {
+                    for y in 0..l {
+                        before[x * l + y] = p.site(x, y);
+                        counts.rest_particles += (p.site(x, y) & REST_BIT) as u64;
+                    }
+                }
+            }
+            Stage::AfterCollide => {
+                let table = p.collision_table();
+                for x in 0..w {
+                    for y in 0..l {
+                        let s = before[x * l + y];
+                        let below = before[x * l + (y + l - 1) % l];
+                        let jam = (below & REST_BIT != 0) as usize;
+                        let movers = |v: u8| (v & MOVERS).count_ones() as u64;
+                        let stopped = movers(s).saturating_sub(movers(p.site(x, y)));
+                        match COUNTED
+                            .iter()
+                            .position(|&r| r == table.entries[s as usize].rule)
+                        {
+                            Some(k) => {
+                                counts.matched[k][jam] += 1;
+                                counts.stopped[k][jam] += stopped;
+                            }
+                            None => counts.stopped_elsewhere += stopped,
+                        }
+                    }
+                }
+            }
+        })?;
+    }
+    Ok(counts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// R2 and R3 stop a mover in a fraction p of their matches, R1 never,
+    /// and the diagnostic leaves the run as it was.
+    #[test]
+    fn p_rules_stop_in_a_fraction_p_and_the_run_is_unchanged() {
+        let params = Params {
+            length: 40,
+            width: 5,
+            p: 0.3,
+            ..Params::default()
+        };
+        let rules = Rules::default();
+        let c = count_stops(params, rules, 7, 50, 4000).unwrap();
+        assert_eq!(c.stopped_elsewhere, 0);
+        assert_eq!(c.stopped[4], [0, 0], "R1 conserves the movers");
+        for (k, rule) in COUNTED.iter().enumerate().take(2) {
+            let (m, s) = (
+                (c.matched[k][0] + c.matched[k][1]) as f64,
+                (c.stopped[k][0] + c.stopped[k][1]) as f64,
+            );
+            assert!(m > 40.0, "{rule:?} matched {m}");
+            let se = (0.3 * 0.7 / m).sqrt();
+            assert!((s / m - 0.3).abs() < 4.0 * se, "{rule:?}: {s} of {m}");
+        }
+        // observed and plain runs end in the same state
+        let mut plain = Pipe::new(params, rules, 7).unwrap();
+        plain.run(450).unwrap();
+        let mut seen = Pipe::new(params, rules, 7).unwrap();
+        for _ in 0..450 {
+            step_observed(&mut seen, &mut |_, _: &Pipe| {}).unwrap();
+        }
+        for x in 0..5 {
+            assert_eq!(plain.column(x), seen.column(x));
+        }
+    }
+}
