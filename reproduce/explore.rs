@@ -7,6 +7,7 @@
 
 use clap::Parser;
 use granular_automata::cli::{parse_runs, PipeRules};
+use granular_automata::pipe::engine::Engine;
 use granular_automata::pipe::record::{bands, record};
 use granular_automata::pipe::stops::{count_stops, COUNTED};
 use granular_automata::pipe::Params;
@@ -64,7 +65,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..Params::default()
     };
     params.validate()?;
+    // band statistics: the second half of the samples, one every 80 steps;
+    // --stops: the second half of the steps
+    let min_steps = if a.stops { 2 } else { 160 };
+    if a.steps < min_steps {
+        return Err(granular_automata::Error::out_of_range(
+            "--steps",
+            a.steps,
+            &format!("[{min_steps}, inf) (statistics over the second half of the run)"),
+        )
+        .into());
+    }
     if a.stops {
+        if engine != Engine::Reference {
+            return Err(granular_automata::Error::out_of_range(
+                "--engine",
+                engine,
+                "reference (--stops watches the reference engine's collisions)",
+            )
+            .into());
+        }
         return stops(&a, params, rules);
     }
     let lines = ensemble(a.runs, |i| -> granular_automata::Result<String> {

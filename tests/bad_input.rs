@@ -57,6 +57,17 @@ fn explore_refuses_bad_runs_and_densities_and_reads_negative_numbers() {
     refused(exe, &["--p", "-0.1"], &["p = -0.1", "[0, 1]"]);
     refused(exe, &["--rho", "0"], &["rho = 0", "(0, 6)"]);
     refused(exe, &["--rho", "6"], &["rho = 6", "(0, 6)"]);
+    refused(exe, &["--steps", "0"], &["--steps = 0", "[160, inf)"]);
+    refused(
+        exe,
+        &["--stops", "--steps", "1"],
+        &["--steps = 1", "[2, inf)"],
+    );
+    refused(
+        exe,
+        &["--stops", "--engine", "fast", "--length", "220"],
+        &["--engine = fast", "reference"],
+    );
 }
 
 #[test]
