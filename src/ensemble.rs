@@ -391,13 +391,57 @@ impl Ensemble {
         T: Serialize + DeserializeOwned + Send,
         F: Fn(usize, u64, &(dyn Fn(u64) + Sync)) -> Result<T> + Sync,
     {
+        self.run_inner(steps_per_run, f, None::<fn(&T) -> bool>)
+    }
+
+    /// [`Ensemble::run`] for a sequential decision: the runs in index order
+    /// up to and including the first whose result `decides` (all runs when
+    /// none does). Runs past that index are not started (those already
+    /// saved, or finished by another worker, stay saved); every run before
+    /// it is computed, so the result does not depend on the thread count.
+    /// Not for sharded ensembles (an error).
+    pub fn run_until<T, F, D>(&self, steps_per_run: u64, f: F, decides: D) -> Result<Vec<T>>
+    where
+        T: Serialize + DeserializeOwned + Send,
+        F: Fn(usize, u64, &(dyn Fn(u64) + Sync)) -> Result<T> + Sync,
+        D: Fn(&T) -> bool + Sync,
+    {
+        if self.shard.is_some() {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                "--shard: this ensemble stops at its first deciding run, which needs every run in one process; run it without --shard",
+            ));
+        }
+        match self.run_inner(steps_per_run, f, Some(decides))? {
+            Outcome::Complete(v) => Ok(v),
+            Outcome::ShardDone { .. } => unreachable!("not sharded"),
+        }
+    }
+
+    fn run_inner<T, F, D>(&self, steps_per_run: u64, f: F, decides: Option<D>) -> Result<Outcome<T>>
+    where
+        T: Serialize + DeserializeOwned + Send,
+        F: Fn(usize, u64, &(dyn Fn(u64) + Sync)) -> Result<T> + Sync,
+        D: Fn(&T) -> bool + Sync,
+    {
         let mine: Vec<usize> = (0..self.runs)
             .filter(|&r| self.shard.is_none_or(|s| s.owns(r)))
             .collect();
+        // the first run (in index order) known to decide; runs after it are
+        // not started
+        let decided_at = AtomicUsize::new(usize::MAX);
+        if let Some(d) = &decides {
+            for r in self.finished() {
+                if d(&self.load::<T>(r)?) {
+                    decided_at.store(r, Ordering::SeqCst);
+                    break;
+                }
+            }
+        }
         let todo: Vec<usize> = mine
             .iter()
             .copied()
-            .filter(|&r| !self.run_path(r).exists())
+            .filter(|&r| !self.run_path(r).exists() && r < decided_at.load(Ordering::SeqCst))
             .collect();
         let pb = progress(todo.len() as u64 * steps_per_run, "runs");
         if !self.show_progress {
@@ -420,7 +464,16 @@ impl Ensemble {
                         break;
                     }
                     let r = todo[k];
-                    let res = f(r, self.seed(r), &tick).and_then(|v| self.save(r, &v));
+                    if r > decided_at.load(Ordering::SeqCst) {
+                        break; // todo is in index order: the rest is later still
+                    }
+                    let res = f(r, self.seed(r), &tick).and_then(|v| {
+                        self.save(r, &v)?;
+                        if decides.as_ref().is_some_and(|d| d(&v)) {
+                            decided_at.fetch_min(r, Ordering::SeqCst);
+                        }
+                        Ok(())
+                    });
                     match res {
                         Ok(()) => {
                             let d = done.fetch_add(1, Ordering::SeqCst) + 1;
@@ -449,7 +502,8 @@ impl Ensemble {
                 dir: self.dir.clone(),
             });
         }
-        let results = (0..self.runs)
+        let last = decided_at.load(Ordering::SeqCst).min(self.runs - 1);
+        let results = (0..=last)
             .map(|r| self.load(r))
             .collect::<Result<Vec<T>>>()?;
         Ok(Outcome::Complete(results))
@@ -646,6 +700,63 @@ mod tests {
         assert!(e.message.contains("run-00003.json") && e.message.contains("checksum"));
         let old = serde_json::to_string(&file).unwrap(); // no checksum
         assert!(verify_run_file(path, &old).is_err());
+    }
+
+    /// `run_until` returns the runs up to the first deciding one in index
+    /// order, whatever the thread count and whatever was saved before (runs
+    /// after it that other workers had started stay saved); `run` on the
+    /// same ensemble still gives all.
+    #[test]
+    fn run_until_stops_at_the_first_deciding_run_in_index_order() {
+        let dir = std::env::temp_dir().join(format!("ga-run-until-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        let key = serde_json::json!({"test": "run_until"});
+        // run r "decides" when its seed-derived value is r = 5 or r = 9
+        let f = |r: usize, _seed: u64, _t: &(dyn Fn(u64) + Sync)| -> Result<usize> { Ok(r) };
+        let decides = |v: &usize| *v == 5 || *v == 9;
+        for threads in [1, 2, 7] {
+            let sub = dir.join(format!("t{threads}"));
+            let ens = Ensemble::new(&sub, "test", &key, 1, 16, None)
+                .unwrap()
+                .threads(threads)
+                .quiet();
+            let v = ens.run_until(10, f, decides).unwrap();
+            assert_eq!(v, (0..=5).collect::<Vec<_>>(), "{threads} threads");
+            assert!((0..=5).all(|r| ens.run_path(r).exists()));
+            if threads == 1 {
+                assert!((6..16).all(|r| !ens.run_path(r).exists()), "none after 5");
+            }
+        }
+        // a later run saved first does not hide an earlier decision
+        let sub = dir.join("saved");
+        let ens = Ensemble::new(&sub, "test", &key, 1, 16, None)
+            .unwrap()
+            .quiet();
+        ens.save(9, &9usize).unwrap();
+        assert_eq!(ens.run_until(10, f, decides).unwrap().len(), 6);
+        match ens.run(10, f).unwrap() {
+            Outcome::Complete(all) => assert_eq!(all, (0..16).collect::<Vec<_>>()),
+            Outcome::ShardDone { .. } => unreachable!(),
+        }
+        // no deciding run: all of them
+        let none = Ensemble::new(&dir.join("none"), "test", &key, 1, 4, None)
+            .unwrap()
+            .quiet();
+        assert_eq!(none.run_until(10, f, |_: &usize| false).unwrap().len(), 4);
+        // sharded: refused
+        let sharded = Ensemble::new(
+            &dir.join("sh"),
+            "test",
+            &key,
+            1,
+            4,
+            Some(Shard { index: 0, count: 2 }),
+        )
+        .unwrap()
+        .quiet();
+        let e = sharded.run_until(10, f, decides).unwrap_err();
+        assert!(e.message.contains("--shard"), "{}", e.message);
+        let _ = fs::remove_dir_all(&dir);
     }
 
     #[test]
