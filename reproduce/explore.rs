@@ -125,13 +125,14 @@ fn stops(
         }
         let [nucleation, on_jam] = c.total();
         line.push_str(&format!(
-            "; elsewhere {}; all stops per step {:.3}, on a jam {:.3} of them; share by R2/R3 {:.3} (on jams {:.3}); rest particles {:.1}",
+            "; elsewhere {}; all stops per step {:.3}, on a jam {:.3} of them; share by R2/R3 {:.3} (on jams {:.3}); rest particles {:.1}, {:.3} of them with channel 4 empty",
             c.stopped_elsewhere,
             (nucleation + on_jam) as f64 / c.steps as f64,
             on_jam as f64 / (nucleation + on_jam).max(1) as f64,
             c.p_rule_share(false),
             c.p_rule_share(true),
             c.rest_particles as f64 / c.steps as f64,
+            c.rest_free_to_fall as f64 / c.rest_particles.max(1) as f64,
         ));
         Ok(line)
     });

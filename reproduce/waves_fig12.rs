@@ -243,7 +243,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     // PH95 Fig. 12c: N(t) at the published I = 0.54
     let clog = {
-        let v = trend(c, (rules, engine), open(l0, w0, CLOG_INJECT), steps, runs, false)?;
+        let v = trend(
+            c,
+            (rules, engine),
+            open(l0, w0, CLOG_INJECT),
+            steps,
+            runs,
+            false,
+        )?;
         book += v.iter().map(|r| r.bookkeeping_errors).sum::<u64>();
         verdict(&v)
     };

@@ -9,7 +9,7 @@
 //! claim would need"). It observes the run through [`super::order`] and
 //! cannot change it.
 
-use super::collision::{Rule, MOVERS, REST_BIT};
+use super::collision::{bit, Rule, MOVERS, REST_BIT};
 use super::order::{step_observed, Stage};
 use super::{Params, Pipe, Rules};
 use crate::error::Result;
@@ -36,6 +36,9 @@ pub struct StopCounts {
     pub stopped_elsewhere: u64,
     /// Rest particles just before the collisions, summed over the steps.
     pub rest_particles: u64,
+    /// Of those, the ones whose site has channel 4 empty (free to fall by
+    /// gravity, A5, at the next step's gravity sub-step if it stays so).
+    pub rest_free_to_fall: u64,
 }
 
 impl StopCounts {
@@ -88,7 +91,9 @@ pub fn count_stops(
                 for x in 0..w {
                     for y in 0..l {
                         before[x * l + y] = p.site(x, y);
-                        counts.rest_particles += (p.site(x, y) & REST_BIT) as u64;
+                        let v = p.site(x, y);
+                        counts.rest_particles += (v & REST_BIT) as u64;
+                        counts.rest_free_to_fall += (v & (REST_BIT | bit(4)) == REST_BIT) as u64;
                     }
                 }
             }
