@@ -104,6 +104,44 @@ where
         .collect()
 }
 
+/// [`ensemble_with_threads`] for a sequential decision: the results in
+/// index order up to and including the first for which `decides` holds
+/// (all `n` when none does). Runs after that index are not started; every
+/// run before it is computed, so the result does not depend on `threads`.
+pub fn ensemble_until<T, F, D>(n: usize, threads: usize, f: F, decides: D) -> Vec<T>
+where
+    T: Send,
+    F: Fn(usize) -> T + Sync,
+    D: Fn(&T) -> bool + Sync,
+{
+    let next = AtomicUsize::new(0);
+    let decided_at = AtomicUsize::new(usize::MAX);
+    let slots: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
+    std::thread::scope(|s| {
+        for _ in 0..threads.max(1).min(n.max(1)) {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                if i >= n || i > decided_at.load(Ordering::SeqCst) {
+                    break;
+                }
+                let r = f(i);
+                if decides(&r) {
+                    decided_at.fetch_min(i, Ordering::SeqCst);
+                }
+                slots.lock().expect("a worker panicked")[i] = Some(r);
+            });
+        }
+    });
+    let last = decided_at.into_inner().min(n.saturating_sub(1));
+    slots
+        .into_inner()
+        .expect("a worker panicked")
+        .into_iter()
+        .take(if n == 0 { 0 } else { last + 1 })
+        .map(|r| r.expect("every run up to the decision finished"))
+        .collect()
+}
+
 /// A progress bar on stderr with the house style (hidden when `len == 0`).
 pub fn progress(len: u64, what: &str) -> ProgressBar {
     let pb = ProgressBar::new(len);
@@ -750,6 +788,20 @@ pub fn mean_sem_at<V: AsRef<[f64]>>(series: &[V], len: usize) -> (Vec<f64>, Vec<
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The prefix up to the first deciding run, at every thread count.
+    #[test]
+    fn ensemble_until_is_the_prefix_to_the_first_decision() {
+        for threads in [1, 2, 5] {
+            let v = ensemble_until(20, threads, |i| i * 10, |&x| x == 70 || x == 120);
+            assert_eq!(v, (0..=7).map(|i| i * 10).collect::<Vec<_>>(), "{threads}");
+            assert_eq!(
+                ensemble_until(4, threads, |i| i, |_| false),
+                vec![0, 1, 2, 3]
+            );
+            assert!(ensemble_until(0, threads, |i| i, |_| true).is_empty());
+        }
+    }
 
     #[test]
     fn ensemble_is_independent_of_thread_count() {

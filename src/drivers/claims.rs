@@ -880,7 +880,7 @@ fn bisect(
             boundary: Boundary::Open { inject: i },
             ..params
         };
-        Ok(trend_test(p, model.rules, model.engine, seeds, steps, tick)?.0)
+        Ok(trend_test(p, model.rules, model.engine, seeds, steps, true, tick)?.0)
     });
     match r {
         Ok((i_c, err, _)) => Ok(Ok((i_c, err))),
@@ -1012,6 +1012,7 @@ fn fig12_group(
         model.engine,
         seeds,
         steps,
+        false,
         tick,
     )?;
     out.push(from_checks("clogs_054", &[clogs_check(&s, CLOG_INJECT)]));

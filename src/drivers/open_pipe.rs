@@ -11,7 +11,7 @@ use crate::pipe::open::{
     correlation, onset_index, open_run, peak_index, stationarity, Stationarity,
 };
 use crate::pipe::{Boundary, Params, Rules};
-use crate::run::{ensemble, Check};
+use crate::run::{ensemble, ensemble_until, threads, Check};
 use serde::{Deserialize, Serialize};
 
 /// The pipe of PH95 Fig. 11: L = 1000, W = 5, bins of 10 rows, p = b =
@@ -293,16 +293,19 @@ pub const TREND_EVERY: u64 = 100;
 
 /// The trend test of N(t) ([`stationarity`]) over runs of `steps` steps
 /// from the empty pipe, one per seed, with the number of samples at which
-/// the mass bookkeeping failed (must be 0).
+/// the mass bookkeeping failed (must be 0). With `until_clog` (a bisection)
+/// only the runs up to the first that clogs, in seed order: one clog
+/// decides "not stationary", so the verdict is the same as with every run.
 pub fn trend_test(
     params: Params,
     rules: Rules,
     engine: Engine,
     seeds: &[u64],
     steps: u64,
+    until_clog: bool,
     tick: &(dyn Fn(u64) + Sync),
 ) -> Result<(Stationarity, u64)> {
-    let recs = ensemble(seeds.len(), |i| {
+    let one = |i: usize| {
         open_run(
             params,
             rules,
@@ -313,7 +316,15 @@ pub fn trend_test(
             false,
             tick,
         )
-    })
+    };
+    let recs = if until_clog {
+        // an error also ends the ensemble (it is returned below)
+        ensemble_until(seeds.len(), threads(), one, |r| {
+            r.as_ref().map_or(true, |r| r.stopped.is_some())
+        })
+    } else {
+        ensemble(seeds.len(), one)
+    }
     .into_iter()
     .collect::<Result<Vec<_>>>()?;
     let book = recs.iter().map(|r| r.bookkeeping_errors).sum();
