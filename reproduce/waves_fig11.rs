@@ -197,7 +197,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // exploratory, not a check: the onset of C(-R, T)'s steepest rise
         // (pre-registered in session 10, EXPERIMENTS.md "Fig. 11: an onset
         // statistic")
-        let on = corr_onset(paper, &FIG11_CORR, base.bin, ONSET_WINDOW);
+        let on = corr_onset(paper, &ps, &FIG11_CORR, base.bin, ONSET_WINDOW);
         let (t_on, t_on_err) = mean_sem(&on.t_on);
         let (v_on, v_on_err) = mean_sem(&on.v_on);
         metrics.insert("t_onset_down_I0.5".into(), t_on);

@@ -82,26 +82,7 @@ where
     T: Send,
     F: Fn(usize) -> T + Sync,
 {
-    let next = AtomicUsize::new(0);
-    let slots: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
-    std::thread::scope(|s| {
-        for _ in 0..threads.max(1).min(n.max(1)) {
-            s.spawn(|| loop {
-                let i = next.fetch_add(1, Ordering::SeqCst);
-                if i >= n {
-                    break;
-                }
-                let r = f(i);
-                slots.lock().expect("a worker panicked")[i] = Some(r);
-            });
-        }
-    });
-    slots
-        .into_inner()
-        .expect("a worker panicked")
-        .into_iter()
-        .map(|r| r.expect("every run finished"))
-        .collect()
+    ensemble_until(n, threads, f, |_| false)
 }
 
 /// [`ensemble_with_threads`] for a sequential decision: the results in

@@ -175,8 +175,15 @@ pub struct CorrOnset {
     pub t_on_mean_curve: Option<f64>,
 }
 
-/// [`CorrOnset`] of C(-R, T) over the unclogged `runs`.
-pub fn corr_onset(runs: &[CorrRun], setup: &CorrSetup, bin: usize, window_steps: u64) -> CorrOnset {
+/// [`CorrOnset`] of C(-R, T) over the unclogged `runs`, whose
+/// [`corr_speed`] is `speed` (for the mean curve).
+pub fn corr_onset(
+    runs: &[CorrRun],
+    speed: &CorrSpeed,
+    setup: &CorrSetup,
+    bin: usize,
+    window_steps: u64,
+) -> CorrOnset {
     let window = (window_steps / setup.every) as usize;
     let step = setup.every as f64;
     let rows = (setup.r.unsigned_abs() * bin) as f64;
@@ -191,13 +198,12 @@ pub fn corr_onset(runs: &[CorrRun], setup: &CorrSetup, bin: usize, window_steps:
         .filter(|&&t| t > 0.0)
         .map(|t| rows / t)
         .collect();
-    let mean = corr_speed(runs, setup, bin).down;
     CorrOnset {
         without: valid.len() - t_on.len(),
         t_on,
         v_on,
         t_on_mean_curve: (!valid.is_empty())
-            .then(|| onset_index(&mean, window))
+            .then(|| onset_index(&speed.down, window))
             .flatten()
             .map(|t| t as f64 * step),
     }
