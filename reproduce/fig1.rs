@@ -48,7 +48,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let rules = args.rules.parse()?;
     let engine = args.rules.engine()?;
     let mut fig = Figure::start("fig1", "PH94 Fig. 1", c.tier, rules.to_string());
-    fig.engine = engine.to_string();
+    fig.engine = engine.label();
     // Bands need the full length and duration (shorter pipes or runs do not form
     // them reliably, EXPERIMENTS.md), so the tiers differ in the number of runs.
     let steps = 40000;

@@ -321,7 +321,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         seeds: vec![args.common.seed],
         params: json!({"size": size, "readings": readings.iter().map(|r| r.to_string()).collect::<Vec<_>>()}),
         rules: args.readings.clone(),
-        engine: engine.to_string(),
+        engine: engine.label(),
         wall_seconds: wall,
         // nominal: runs that clog stop early
         site_updates: site_updates(size) * readings.len() as f64,

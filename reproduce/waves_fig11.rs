@@ -224,7 +224,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         seeds: (0..runs as u64).map(|i| derive_seed(c.seed, i)).collect(),
         params: json!({"paper": at(I_PAPER), "correlation": at(I_CORR), "steps": steps, "every": EVERY, "skip_samples": SKIP, "t_max_samples": T_MAX, "R_bins": R}),
         rules: rules.to_string(),
-        engine: engine.to_string(),
+        engine: engine.label(),
         wall_seconds: wall,
         site_updates: (rates.len() as u64 * runs as u64 * steps * base.sites() as u64) as f64,
         metrics,

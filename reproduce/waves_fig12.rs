@@ -441,7 +441,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "trend_false_alarm": TREND_FALSE_ALARM, "trend_threshold": thr,
             "bisection_steps": bisect_steps, "spectrum_runs": sruns, "I_over_I_c": ifr, "setup": setup_of(open(l0, w0, i_c))}),
         rules: rules.to_string(),
-        engine: engine.to_string(),
+        engine: engine.label(),
         wall_seconds: wall,
         site_updates: bisect_rows.iter().map(|r| r[0] * r[1] * r[3]).sum::<f64>() * steps as f64
             + site_updates(&points, sruns, setup_of),
@@ -475,7 +475,7 @@ fn plot_spectra(
                     3 * k,
                 )),
                 None => eprintln!(
-                    "waves-fig12: I = {}: all runs clogged, no spectrum",
+                    "waves-fig12: I = {}: no valid run (every run clogged or had a constant bottom bin), no spectrum",
                     r.point.x[0]
                 ),
             }
@@ -496,7 +496,7 @@ fn plot_spectra(
         "injection rate I",
         "alpha (mean over valid runs +- SE)",
         &[ErrSeries::new(
-            &format!("{main_pipe} (clogged points omitted)"),
+            &format!("{main_pipe} (points with no valid run omitted: clogged or constant bin)"),
             pts,
             PALETTE[0],
         )],

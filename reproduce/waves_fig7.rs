@@ -123,7 +123,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         seeds,
         params: json!({"p0": cases[0].1, "b0": cases[1].1, "setup": setup0}),
         rules: rules.to_string(),
-        engine: engine.to_string(),
+        engine: engine.label(),
         wall_seconds: wall,
         site_updates: (2 * runs as u64 * setup0.steps() * base.sites() as u64) as f64,
         metrics,

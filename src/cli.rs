@@ -166,7 +166,7 @@ impl PipeRules {
     ) -> crate::Result<(Figure, Rules, &'c Common)> {
         let rules = self.parse()?;
         let mut fig = Figure::start(binary, paper, common.tier, rules.to_string());
-        fig.engine = self.engine()?.to_string();
+        fig.engine = self.engine()?.label();
         Ok((fig, rules, common))
     }
 }

@@ -403,7 +403,7 @@ pub struct Summary {
     /// Rule variant(s) used, as printed by the model.
     pub rules: String,
     /// The engine that ran the model (`reference` or, for the pipe, `fast`;
-    /// issue 13).
+    /// issue 13), with its revision from revision 2 on (`Engine::label`).
     pub engine: String,
     /// Wall-clock time of this invocation of the figure (runs resumed from
     /// saved files cost nothing here; `site_updates` counts them).

@@ -253,7 +253,16 @@ pub fn measure(plan: &Plan) -> Result<Vec<Point>> {
                     .join("speed-accuracy")
                     .join("runs")
                     .join(format!("{}-{engine}", tier.name()));
-                let done = read_summary(&dir, key.figure).filter(|s| s["cpu_seconds"].is_number());
+                // a summary of another revision of the engine is run again
+                let label = if key.pipe {
+                    engine.parse::<crate::pipe::engine::Engine>()?.label()
+                } else {
+                    "reference".to_string()
+                };
+                let done = read_summary(&dir, key.figure).filter(|s| {
+                    s["cpu_seconds"].is_number()
+                        && s["engine"].as_str().unwrap_or("reference") == label
+                });
                 let summary = match done {
                     Some(s) => s,
                     None => run_one(plan, key, tier, engine, &dir)?,
@@ -450,7 +459,7 @@ pub fn write(dir: &Path, points: &[Point]) -> Result<()> {
         }
         let base =
             PALETTE[figures.iter().position(|f| *f == p.figure).unwrap_or(0) % PALETTE.len()];
-        let color = if p.engine == "reference" {
+        let color = if p.engine.split('@').next() == Some("reference") {
             base
         } else {
             let light = |c: u8| ((c as u16 + 2 * 255) / 3) as u8;

@@ -97,6 +97,16 @@ fn one_row_per_figure_and_engine_with_cpu_time_and_a_resume_that_reruns_nothing(
             .unwrap(),
         written
     );
+    // a summary of another revision of the engine (Engine::label) is run again
+    let text = std::fs::read_to_string(&summary).unwrap();
+    let mut s: serde_json::Value = serde_json::from_str(&text).unwrap();
+    s["engine"] = "fast@0".into();
+    std::fs::write(&summary, s.to_string()).unwrap();
+    let rerun = speed(&out, &args);
+    assert!(rerun.status.success());
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    assert_eq!(s["engine"], "fast", "the stale summary was replaced");
 }
 
 #[test]

@@ -461,7 +461,7 @@ pub fn run_figure(
         seeds,
         params: serde_json::json!({"pipe": fig.params, "setup": setup}),
         rules: rules.to_string(),
-        engine: engine.to_string(),
+        engine: engine.label(),
         wall_seconds: wall,
         site_updates: (runs as u64 * setup.steps() * p.sites() as u64) as f64,
         metrics,

@@ -166,9 +166,33 @@ impl Engine {
         }
     }
 
-    /// Its name, as `--engine` takes it and summary.json records it.
+    /// Its name, as `--engine` takes it.
     pub fn name(self) -> &'static str {
         Engine::NAMES[self as usize]
+    }
+
+    /// The revision of this engine's dynamics, from 1. Raise it whenever the
+    /// same (parameters, rules, seed) give a different run: a changed rule,
+    /// another order or use of the random draws. Saved runs are keyed by
+    /// [`Engine::label`], so a resumed ensemble never mixes runs of two
+    /// revisions. `tests/engine_revision.rs` pins a fingerprint of each
+    /// revision and fails until this is raised.
+    pub fn revision(self) -> u32 {
+        match self {
+            Engine::Reference => 1,
+            Engine::Fast => 1,
+        }
+    }
+
+    /// The engine as the keys of saved runs and summary.json record it: its
+    /// name, followed by `@` and the revision from revision 2 on. Revision 1
+    /// is the bare name, the label of every run saved before revisions were
+    /// recorded, so those runs still resume.
+    pub fn label(self) -> String {
+        match self.revision() {
+            1 => self.name().to_string(),
+            r => format!("{}@{r}", self.name()),
+        }
     }
 }
 
@@ -196,8 +220,8 @@ impl std::str::FromStr for Engine {
 }
 
 impl serde::Serialize for Engine {
-    /// Serialised as its name.
+    /// Serialised as its [`Engine::label`] (name and revision).
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.serialize_str(self.name())
+        s.serialize_str(&self.label())
     }
 }
