@@ -134,6 +134,12 @@ fn stops(
             c.rest_particles as f64 / c.steps as f64,
             c.rest_free_to_fall as f64 / c.rest_particles.max(1) as f64,
         ));
+        // the lane's holes at the sites without a rest particle
+        let others = (params.sites() as u64 * c.steps).saturating_sub(c.rest_particles);
+        line.push_str(&format!(
+            "; sites without one: {:.4} with channel 4 empty",
+            (c.lane_holes - c.rest_free_to_fall) as f64 / others.max(1) as f64
+        ));
         Ok(line)
     });
     for l in lines {

@@ -39,6 +39,10 @@ pub struct StopCounts {
     /// Of those, the ones whose site has channel 4 empty (free to fall by
     /// gravity, A5, at the next step's gravity sub-step if it stays so).
     pub rest_free_to_fall: u64,
+    /// Sites (all, with or without a rest particle) whose channel 4 is empty
+    /// just before the collisions, summed over the steps: the holes of the
+    /// lane everywhere, to compare with [`StopCounts::rest_free_to_fall`].
+    pub lane_holes: u64,
 }
 
 impl StopCounts {
@@ -94,6 +98,7 @@ pub fn count_stops(
                         let v = p.site(x, y);
                         counts.rest_particles += (v & REST_BIT) as u64;
                         counts.rest_free_to_fall += (v & (REST_BIT | bit(4)) == REST_BIT) as u64;
+                        counts.lane_holes += (v & bit(4) == 0) as u64;
                     }
                 }
             }
@@ -129,7 +134,8 @@ mod tests {
     use super::*;
 
     /// R2 and R3 stop a mover in a fraction p of their matches, R1 never,
-    /// and the diagnostic leaves the run as it was.
+    /// the lane's holes are counted within bounds, and the diagnostic
+    /// leaves the run as it was.
     #[test]
     fn p_rules_stop_in_a_fraction_p_and_the_run_is_unchanged() {
         let params = Params {
@@ -142,6 +148,9 @@ mod tests {
         let c = count_stops(params, rules, 7, 50, 4000).unwrap();
         assert_eq!(c.stopped_elsewhere, 0);
         assert_eq!(c.stopped[4], [0, 0], "R1 conserves the movers");
+        // the lane's holes include those at rest particles, and fit the pipe
+        assert!(c.rest_free_to_fall <= c.lane_holes && c.lane_holes <= 200 * 4000);
+        assert!(c.lane_holes > c.rest_free_to_fall, "a lane with no hole");
         for (k, rule) in COUNTED.iter().enumerate().take(2) {
             let (m, s) = (
                 (c.matched[k][0] + c.matched[k][1]) as f64,
