@@ -140,6 +140,14 @@ fn stops(
             "; sites without one: {:.4} with channel 4 empty",
             (c.lane_holes - c.rest_free_to_fall) as f64 / others.max(1) as f64
         ));
+        // a stack: rest particles with a rest particle just above, and the others
+        let top = c.rest_particles - c.rest_covered;
+        line.push_str(&format!(
+            "; rest particles under a rest particle {:.1} ({:.4} with channel 4 empty), the others {:.4}",
+            c.rest_covered as f64 / c.steps as f64,
+            c.rest_covered_free as f64 / c.rest_covered.max(1) as f64,
+            (c.rest_free_to_fall - c.rest_covered_free) as f64 / top.max(1) as f64
+        ));
         Ok(line)
     });
     for l in lines {

@@ -43,6 +43,11 @@ pub struct StopCounts {
     /// just before the collisions, summed over the steps: the holes of the
     /// lane everywhere, to compare with [`StopCounts::rest_free_to_fall`].
     pub lane_holes: u64,
+    /// Rest particles with another rest particle on the site just above (x,
+    /// y + 1, wrapping), summed over the steps: the covered part of a stack.
+    pub rest_covered: u64,
+    /// Of those, the ones whose site has channel 4 empty.
+    pub rest_covered_free: u64,
 }
 
 impl StopCounts {
@@ -96,9 +101,13 @@ pub fn count_stops(
                     for y in 0..l {
                         before[x * l + y] = p.site(x, y);
                         let v = p.site(x, y);
+                        let free = v & (REST_BIT | bit(4)) == REST_BIT;
                         counts.rest_particles += (v & REST_BIT) as u64;
-                        counts.rest_free_to_fall += (v & (REST_BIT | bit(4)) == REST_BIT) as u64;
+                        counts.rest_free_to_fall += free as u64;
                         counts.lane_holes += (v & bit(4) == 0) as u64;
+                        let covered = v & REST_BIT != 0 && p.site(x, (y + 1) % l) & REST_BIT != 0;
+                        counts.rest_covered += covered as u64;
+                        counts.rest_covered_free += (covered && free) as u64;
                     }
                 }
             }
@@ -151,6 +160,8 @@ mod tests {
         // the lane's holes include those at rest particles, and fit the pipe
         assert!(c.rest_free_to_fall <= c.lane_holes && c.lane_holes <= 200 * 4000);
         assert!(c.lane_holes > c.rest_free_to_fall, "a lane with no hole");
+        assert!(c.rest_covered <= c.rest_particles);
+        assert!(c.rest_covered_free <= c.rest_covered.min(c.rest_free_to_fall));
         for (k, rule) in COUNTED.iter().enumerate().take(2) {
             let (m, s) = (
                 (c.matched[k][0] + c.matched[k][1]) as f64,
