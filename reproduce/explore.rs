@@ -148,6 +148,14 @@ fn stops(
             c.rest_covered_free as f64 / c.rest_covered.max(1) as f64,
             (c.rest_free_to_fall - c.rest_covered_free) as f64 / top.max(1) as f64
         ));
+        // the same just before gravity
+        let others = (params.sites() as u64 * c.steps).saturating_sub(c.rest_before_gravity);
+        line.push_str(&format!(
+            "; before gravity: rest particles {:.1}, {:.4} of them with channel 4 empty, the other sites {:.4}",
+            c.rest_before_gravity as f64 / c.steps as f64,
+            c.rest_holes_before_gravity as f64 / c.rest_before_gravity.max(1) as f64,
+            (c.lane_holes_before_gravity - c.rest_holes_before_gravity) as f64 / others.max(1) as f64
+        ));
         Ok(line)
     });
     for l in lines {

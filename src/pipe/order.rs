@@ -40,6 +40,8 @@ pub(crate) fn step(engine: &mut impl SubSteps) -> Result<()> {
 /// Where in a step an observer of [`step_observed`] looks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Stage {
+    /// Just before gravity (A5), wherever the reading puts it.
+    BeforeGravity,
     /// Just before the collisions (after gravity with `gravity-first`).
     BeforeCollide,
     /// Just after the collisions and the relocation of their extra rest
@@ -58,18 +60,14 @@ pub(crate) fn step_observed<E: SubSteps>(
     if open && !rules.inject_late {
         engine.inject();
     }
-    let mut collide = |engine: &mut E| -> Result<()> {
-        observe(Stage::BeforeCollide, engine);
-        engine.collide()?;
-        observe(Stage::AfterCollide, engine);
-        Ok(())
-    };
     if rules.gravity_first {
+        observe(Stage::BeforeGravity, engine);
         engine.gravity();
-        collide(engine)?;
+        collide(engine, observe)?;
     } else {
-        collide(engine)?;
+        collide(engine, observe)?;
         if !rules.gravity_last {
+            observe(Stage::BeforeGravity, engine);
             engine.gravity();
         }
     }
@@ -84,8 +82,17 @@ pub(crate) fn step_observed<E: SubSteps>(
     }
     engine.propagate();
     if rules.gravity_last {
+        observe(Stage::BeforeGravity, engine);
         engine.gravity();
     }
     engine.tick();
+    Ok(())
+}
+
+/// Collisions and relocation (A3, A4), observed before and after.
+fn collide<E: SubSteps>(engine: &mut E, observe: &mut impl FnMut(Stage, &E)) -> Result<()> {
+    observe(Stage::BeforeCollide, engine);
+    engine.collide()?;
+    observe(Stage::AfterCollide, engine);
     Ok(())
 }

@@ -48,6 +48,12 @@ pub struct StopCounts {
     pub rest_covered: u64,
     /// Of those, the ones whose site has channel 4 empty.
     pub rest_covered_free: u64,
+    /// Rest particles just before gravity (A5), summed over the steps.
+    pub rest_before_gravity: u64,
+    /// Of those, the ones whose site has channel 4 empty then.
+    pub rest_holes_before_gravity: u64,
+    /// Sites with channel 4 empty just before gravity (all sites).
+    pub lane_holes_before_gravity: u64,
 }
 
 impl StopCounts {
@@ -96,6 +102,17 @@ pub fn count_stops(
     };
     for _ in 0..steps {
         step_observed(&mut pipe, &mut |stage, p: &Pipe| match stage {
+            Stage::BeforeGravity => {
+                for x in 0..w {
+                    for y in 0..l {
+                        let v = p.site(x, y);
+                        let hole = v & bit(4) == 0;
+                        counts.rest_before_gravity += (v & REST_BIT) as u64;
+                        counts.rest_holes_before_gravity += (hole && v & REST_BIT != 0) as u64;
+                        counts.lane_holes_before_gravity += hole as u64;
+                    }
+                }
+            }
             Stage::BeforeCollide => {
                 for x in 0..w {
                     for y in 0..l {
@@ -161,6 +178,8 @@ mod tests {
         assert!(c.rest_free_to_fall <= c.lane_holes && c.lane_holes <= 200 * 4000);
         assert!(c.lane_holes > c.rest_free_to_fall, "a lane with no hole");
         assert!(c.rest_covered <= c.rest_particles);
+        assert!(c.rest_holes_before_gravity <= c.rest_before_gravity);
+        assert!(c.rest_holes_before_gravity < c.lane_holes_before_gravity);
         assert!(c.rest_covered_free <= c.rest_covered.min(c.rest_free_to_fall));
         for (k, rule) in COUNTED.iter().enumerate().take(2) {
             let (m, s) = (
