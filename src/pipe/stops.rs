@@ -6,8 +6,11 @@
 //! only where a rest particle already sits. The count says whether the jams
 //! of the lane grow by the p-rules or by the certain ones, the mechanism
 //! argued for `v_const_p` (EXPERIMENTS.md "The mechanism each unreproduced
-//! claim would need"). It observes the run through [`super::order`] and
-//! cannot change it.
+//! claim would need"). It also counts the holes of the lane (channel 4
+//! empty) at the rest particles and elsewhere, before gravity and before the
+//! collisions, since the rest particles' lifetime turned out to set the
+//! p-dependence (session 11). It observes the run through [`super::order`]
+//! and cannot change it.
 
 use super::collision::{bit, Rule, MOVERS, REST_BIT};
 use super::order::{step_observed, Stage};
