@@ -175,7 +175,7 @@ impl Engine {
     /// same (parameters, rules, seed) give a different run: a changed rule,
     /// another order or use of the random draws. Saved runs are keyed by
     /// [`Engine::label`], so a resumed ensemble never mixes runs of two
-    /// revisions. `tests/engine_revision.rs` pins a fingerprint of each
+    /// revisions. `tests/engines.rs` pins a fingerprint of each
     /// revision and fails until this is raised.
     pub fn revision(self) -> u32 {
         match self {

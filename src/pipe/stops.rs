@@ -119,8 +119,8 @@ pub fn count_stops(
             Stage::BeforeCollide => {
                 for x in 0..w {
                     for y in 0..l {
-                        before[x * l + y] = p.site(x, y);
                         let v = p.site(x, y);
+                        before[x * l + y] = v;
                         let free = v & (REST_BIT | bit(4)) == REST_BIT;
                         counts.rest_particles += (v & REST_BIT) as u64;
                         counts.rest_free_to_fall += free as u64;
