@@ -1,10 +1,12 @@
 //! Site updates per second of the pipe engines, one thread, side by side
 //! (issue 13): the reference engine and the fast engine at the PH94 Fig. 2
 //! set-up (L = 220) and the Fig. 1 set-up (L = 2200), W = 11, rho = 1,
-//! p = g = b = 0.5. `cargo run --release --bin bench`
+//! p = g = b = 0.5; then, where relocation's walk dominates, the lower end
+//! of waves-fig12 (open pipe just below I_c, PH95 Fig. 12). `cargo run
+//! --release --bin bench`
 use clap::Parser;
 use granular_automata::pipe::engine::Engine;
-use granular_automata::pipe::{Params, Rules};
+use granular_automata::pipe::{Boundary, Params, Rules};
 use std::time::Instant;
 
 #[derive(Parser)]
@@ -47,21 +49,61 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             width: 11,
             ..Params::default()
         };
-        let mut first = None;
-        for &engine in &engines {
-            let mut pipe = engine.build(params, rules, a.seed)?;
-            pipe.run(2000)?; // leave the random start
-            let steps = a.steps * 220 / length as u64;
-            let t = Instant::now();
-            pipe.run(steps)?;
-            let dt = t.elapsed().as_secs_f64();
-            let rate = (params.sites() as u64 * steps) as f64 / dt;
-            let ratio = *first.get_or_insert(rate);
-            println!(
-                "L = {length:5}, W = 11, rules {rules}, engine {engine:9}: {steps} steps in {dt:.3} s = {rate:.3e} site updates/s ({:.2}x the first)",
-                rate / ratio
-            );
-        }
+        let what = format!("L = {length:5}, W = 11, rules {rules}");
+        // 2000 steps leave the random start
+        time(
+            &what,
+            &engines,
+            params,
+            rules,
+            a.seed,
+            2000,
+            a.steps * 220 / length as u64,
+        )?;
+    }
+    // the open pipe at the lower end of the paper-tier waves-fig12 run
+    // (L = 220, W = 11, I = 0.5078, just below its I_c = 0.5117): the bottom
+    // fills with rest particles and most of the time goes to relocation's
+    // walk (MODEL.md A4); timed from the empty start over 5x the steps
+    let params = Params {
+        length: 220,
+        width: 11,
+        p: 0.5,
+        b: 0.5,
+        g: 0.5,
+        boundary: Boundary::Open { inject: 0.5078 },
+        ..Params::default()
+    };
+    let what = format!("L =   220, W = 11, open I = 0.5078 (waves-fig12 lower end), rules {rules}");
+    time(&what, &engines, params, rules, a.seed, 0, 5 * a.steps)
+}
+
+/// Time `steps` steps of each engine after `warm` untimed ones, and print
+/// the rate and its ratio to the first engine's (and the rest particles at
+/// the end, the load of relocation's walk).
+fn time(
+    what: &str,
+    engines: &[Engine],
+    params: Params,
+    rules: Rules,
+    seed: u64,
+    warm: u64,
+    steps: u64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut first = None;
+    for &engine in engines {
+        let mut pipe = engine.build(params, rules, seed)?;
+        pipe.run(warm)?;
+        let t = Instant::now();
+        pipe.run(steps)?;
+        let dt = t.elapsed().as_secs_f64();
+        let rate = (params.sites() as u64 * steps) as f64 / dt;
+        let ratio = *first.get_or_insert(rate);
+        println!(
+            "{what}, engine {engine:9}: {steps} steps in {dt:.3} s = {rate:.3e} site updates/s ({:.2}x the first), {} rest particles at the end",
+            rate / ratio,
+            pipe.rest_count()
+        );
     }
     Ok(())
 }

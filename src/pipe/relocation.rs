@@ -34,7 +34,7 @@ pub trait RestChannels {
 /// (the nearest free site above in the column), else the random walk over
 /// neighbouring sites, each hop to one of the `n` valid neighbours chosen by
 /// `below(n)` (uniform in 0..n), until a free rest channel is found; a walk
-/// longer than 1000 W L + 10^6 hops is `RelocationStuck`.
+/// longer than [`walk_bound`] hops is `RelocationStuck`.
 #[allow(clippy::too_many_arguments)] // the lattice, its run and its draws
 pub fn relocate(
     lattice: &mut impl RestChannels,
@@ -44,6 +44,30 @@ pub fn relocate(
     extras: &mut [(usize, usize)],
     rest_now: u64,
     time: u64,
+) -> Result<()> {
+    relocate_with(
+        lattice,
+        params,
+        rules,
+        extras,
+        rest_now,
+        time,
+        |lat, x, y| random_walk(lat, below, params, x, y, time),
+    )
+}
+
+/// [`relocate`] with the random walk given as `walk(lattice, x, y)`, which
+/// places one particle by the walk from (x, y). An engine may walk faster
+/// than [`random_walk`] but not differently: the same hops from the same
+/// draws (the fast engine's [`crate::pipe::fast::walk`], tested equal).
+pub fn relocate_with<L: RestChannels>(
+    lattice: &mut L,
+    params: &Params,
+    rules: Rules,
+    extras: &mut [(usize, usize)],
+    rest_now: u64,
+    time: u64,
+    mut walk: impl FnMut(&mut L, usize, usize) -> Result<()>,
 ) -> Result<()> {
     let sites = params.sites() as u64;
     let total = rest_now + extras.len() as u64;
@@ -65,10 +89,28 @@ pub fn relocate(
             RestPlacement::RandomWalk => false,
         };
         if !placed {
-            random_walk(lattice, below, params, x, y, time)?;
+            walk(lattice, x, y)?;
         }
     }
     Ok(())
+}
+
+/// The longest walk: 1000 W L + 10^6 hops (then `RelocationStuck`).
+pub fn walk_bound(params: &Params) -> u64 {
+    1000 * params.sites() as u64 + 1_000_000
+}
+
+/// The error of a walk that found no empty rest channel within
+/// [`walk_bound`] hops, at step `time`.
+pub fn stuck(params: &Params, time: u64) -> Error {
+    Error::new(
+        ErrorKind::RelocationStuck,
+        format!(
+            "at step {time}: an extra rest particle found no empty rest channel within {} hops \
+             (W = {}, L = {}, rho = {}, p = {}); the lattice is (nearly) full of rest particles: lower rho or p",
+            walk_bound(params), params.width, params.length, params.rho, params.p
+        ),
+    )
 }
 
 /// `rest-up`: the nearest site above (x, y) in its column with an empty rest
@@ -114,7 +156,7 @@ const PICK: [[u8; 6]; 64] = {
 /// The random walk from (x, y) over neighbouring sites (walls, and rows
 /// beyond the open ends, excluded) until a site with an empty rest channel
 /// is reached.
-fn random_walk(
+pub fn random_walk(
     lattice: &mut impl RestChannels,
     below: &mut impl FnMut(u32) -> u32,
     params: &Params,
@@ -124,7 +166,7 @@ fn random_walk(
 ) -> Result<()> {
     let (w, l) = (params.width as i64, params.length as i64);
     let periodic = params.boundary == Boundary::Periodic;
-    let bound = 1000 * params.sites() as u64 + 1_000_000;
+    let bound = walk_bound(params);
     // the six hops of an even and an odd column, in direction order 1..=6
     let hop =
         [0, 1].map(|parity| core::array::from_fn::<_, 6, _>(|k| neighbour_offset(k + 1, parity)));
@@ -164,14 +206,7 @@ fn random_walk(
             return Ok(());
         }
     }
-    Err(Error::new(
-        ErrorKind::RelocationStuck,
-        format!(
-            "at step {time}: an extra rest particle found no empty rest channel within {bound} hops \
-             (W = {}, L = {}, rho = {}, p = {}); the lattice is (nearly) full of rest particles: lower rho or p",
-            params.width, params.length, params.rho, params.p
-        ),
-    ))
+    Err(stuck(params, time))
 }
 
 #[cfg(test)]

@@ -115,8 +115,16 @@ pub fn coins(rng: &mut Xoshiro256PlusPlus, need: u64) -> u64 {
 /// A uniform integer in `0..n` (n >= 1), exactly: Lemire's multiply with
 /// rejection of the `2^32 mod n` low products that would bias it.
 pub fn below(rng: &mut Xoshiro256PlusPlus, n: u32) -> u32 {
+    let first = rng.next_u32();
+    below_from(rng, first, n)
+}
+
+/// [`below`] when its first draw `first` is already taken: the further
+/// draws, if any, come from `rng`.
+#[inline]
+pub fn below_from(rng: &mut Xoshiro256PlusPlus, first: u32, n: u32) -> u32 {
     debug_assert!(n >= 1);
-    let mut m = rng.next_u32() as u64 * n as u64;
+    let mut m = first as u64 * n as u64;
     if (m as u32) < n {
         let reject = n.wrapping_neg() % n;
         while (m as u32) < reject {

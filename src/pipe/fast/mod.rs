@@ -10,7 +10,7 @@
 //! 32-bit uniform number per lane with the reference's threshold, drawing
 //! its bits only as long as the comparison is undecided. The extra rest
 //! particles of R4/R5 are relocated one by one by the scalar walk of the
-//! reference (MODEL.md A4). Every rule reading of [`Rules`] is supported.
+//! reference (MODEL.md A4), on a neighbour table ([`walk`]). Every rule reading of [`Rules`] is supported.
 //!
 //! ```
 //! use granular_automata::pipe::engine::PipeEngine;
@@ -26,6 +26,7 @@
 pub mod grid;
 pub mod lanes;
 pub mod logic;
+pub mod walk;
 
 use super::collision::{bit, threshold, CollisionTable, Entry};
 use super::engine::{EngineBuilder, PipeEngine};
@@ -110,6 +111,8 @@ pub struct FastPipe {
     /// `rest-ahead`: per word (as `grid.cells()`), the lanes whose mover 2,
     /// and whose mover 6, has a rest particle ahead at the start of gravity.
     ahead: Vec<(u64, u64)>,
+    /// The neighbour table of relocation's walk, built at the first walk.
+    walker: Option<walk::Walker>,
     time: u64,
     flux: Flux,
 }
@@ -140,6 +143,7 @@ impl FastPipe {
             bin_start: Vec::new(),
             extras: Vec::new(),
             ahead: Vec::new(),
+            walker: None,
             time: 0,
             flux: Flux::default(),
         };
@@ -417,7 +421,8 @@ impl SubSteps for FastPipe {
 /// The parts of the sub-steps, and what a run measures.
 impl FastPipe {
     /// Relocation of the extra rest particles (MODEL.md A4), by the rule the
-    /// reference uses ([`relocation::relocate`]).
+    /// reference uses ([`relocation::relocate`]), its walk on a neighbour
+    /// table ([`walk::Walker`]: the same hops from the same draws).
     fn relocate(&mut self) -> Result<()> {
         let rest_now = self.rest_count();
         let w = self.params.width as u64;
@@ -426,15 +431,19 @@ impl FastPipe {
             .iter()
             .map(|&site| ((site % w) as usize, (site / w) as usize))
             .collect();
+        let (params, time, words) = (&self.params, self.time, self.grid.words());
+        let walker = self
+            .walker
+            .get_or_insert_with(|| walk::Walker::new(params, words));
         let rng = &mut self.rng;
-        relocation::relocate(
+        relocation::relocate_with(
             &mut self.grid,
-            &mut |n| lanes::below(rng, n),
-            &self.params,
+            params,
             self.rules,
             &mut extras,
             rest_now,
-            self.time,
+            time,
+            |grid, x, y| walker.walk(grid, rng, params, (x, y), time),
         )
     }
 
