@@ -156,6 +156,33 @@ fn stops(
             c.rest_holes_before_gravity as f64 / c.rest_before_gravity.max(1) as f64,
             (c.lane_holes_before_gravity - c.rest_holes_before_gravity) as f64 / others.max(1) as f64
         ));
+        // the site above: its channel 4 before and after its collisions,
+        // above a site that holds a rest particle after them, and elsewhere
+        let frac = |h: [u64; 2], k: usize| h[k] as f64 / c.above[k].max(1) as f64;
+        line.push_str(&format!(
+            "; site above a rest particle: channel 4 empty {:.4} before its collisions, {:.4} after; above the other sites {:.4}, {:.4}",
+            frac(c.above_holes_before, 0),
+            frac(c.holes_up[0], 0),
+            frac(c.above_holes_before, 1),
+            frac(c.holes_up[0], 1)
+        ));
+        // by column: rest particles per step, and the lane's holes
+        line.push_str("; by column x = 0..W-1: rest particles per step");
+        for r in &c.rest_by_column {
+            line.push_str(&format!(" {:.1}", *r as f64 / c.steps as f64));
+        }
+        line.push_str(", channel 4 empty");
+        for h in &c.holes_by_column {
+            line.push_str(&format!(
+                " {:.3}",
+                *h as f64 / (c.steps * params.length as u64) as f64
+            ));
+        }
+        // how far up: the ratio of the two, d rows above
+        line.push_str("; ratio d rows above (d = 1..16):");
+        for h in c.holes_up {
+            line.push_str(&format!(" {:.3}", frac(h, 0) / frac(h, 1).max(1e-12)));
+        }
         Ok(line)
     });
     for l in lines {

@@ -9,7 +9,8 @@
 //! claim would need"). It also counts the holes of the lane (channel 4
 //! empty) at the rest particles and elsewhere, before gravity and before the
 //! collisions, since the rest particles' lifetime turned out to set the
-//! p-dependence (session 11). It observes the run through [`super::order`]
+//! p-dependence (session 11), and the holes at the site above a rest
+//! particle before and after its collisions (session 12). It observes the run through [`super::order`]
 //! and cannot change it.
 
 use super::collision::{bit, Rule, MOVERS, REST_BIT};
@@ -57,7 +58,27 @@ pub struct StopCounts {
     pub rest_holes_before_gravity: u64,
     /// Sites with channel 4 empty just before gravity (all sites).
     pub lane_holes_before_gravity: u64,
+    /// The sites just above (x, y + 1, wrapping) a site that holds a rest
+    /// particle after the collisions, `[rest below, no rest below]`, summed
+    /// over the steps: their channel-4 mover is what propagation brings to
+    /// the site below (session 12).
+    pub above: [u64; 2],
+    /// Of those, the ones whose channel 4 was empty before the collisions.
+    pub above_holes_before: [u64; 2],
+    /// `holes_up[d - 1]`: the sites d = 1..=[`UP`] rows above (wrapping)
+    /// whose channel 4 is empty after the collisions, `[rest below, no rest
+    /// below]` as [`StopCounts::above`]: how far up the lane stays full over
+    /// a rest particle.
+    pub holes_up: [[u64; 2]; UP],
+    /// Per column x: rest particles just before the collisions, summed
+    /// over the steps.
+    pub rest_by_column: Vec<u64>,
+    /// Per column x: sites with channel 4 empty just before the collisions.
+    pub holes_by_column: Vec<u64>,
 }
+
+/// The rows above a site that [`StopCounts::holes_up`] looks at.
+pub const UP: usize = 16;
 
 impl StopCounts {
     /// All movers stopped by the counted rules, `[nucleation, on_jam]`.
@@ -101,6 +122,8 @@ pub fn count_stops(
     let mut before = vec![0u8; w * l];
     let mut counts = StopCounts {
         steps,
+        rest_by_column: vec![0; w],
+        holes_by_column: vec![0; w],
         ..StopCounts::default()
     };
     for _ in 0..steps {
@@ -125,6 +148,8 @@ pub fn count_stops(
                         counts.rest_particles += (v & REST_BIT) as u64;
                         counts.rest_free_to_fall += free as u64;
                         counts.lane_holes += (v & bit(4) == 0) as u64;
+                        counts.rest_by_column[x] += (v & REST_BIT) as u64;
+                        counts.holes_by_column[x] += (v & bit(4) == 0) as u64;
                         let covered = v & REST_BIT != 0 && p.site(x, (y + 1) % l) & REST_BIT != 0;
                         counts.rest_covered += covered as u64;
                         counts.rest_covered_free += (covered && free) as u64;
@@ -140,6 +165,15 @@ pub fn count_stops(
                         let jam = (below & REST_BIT != 0) as usize;
                         let movers = |v: u8| (v & MOVERS).count_ones() as u64;
                         let stopped = movers(s).saturating_sub(movers(p.site(x, y)));
+                        // the site just above, seen from a site that now
+                        // holds a rest particle (0) or not (1)
+                        let up = (y + 1) % l;
+                        let k = (p.site(x, y) & REST_BIT == 0) as usize;
+                        counts.above[k] += 1;
+                        counts.above_holes_before[k] += (before[x * l + up] & bit(4) == 0) as u64;
+                        for (d, h) in counts.holes_up.iter_mut().enumerate() {
+                            h[k] += (p.site(x, (y + 1 + d) % l) & bit(4) == 0) as u64;
+                        }
                         match COUNTED
                             .iter()
                             .position(|&r| r == table.entries[s as usize].rule)
@@ -184,6 +218,16 @@ mod tests {
         assert!(c.rest_holes_before_gravity <= c.rest_before_gravity);
         assert!(c.rest_holes_before_gravity < c.lane_holes_before_gravity);
         assert!(c.rest_covered_free <= c.rest_covered.min(c.rest_free_to_fall));
+        assert_eq!(
+            c.above[0] + c.above[1],
+            200 * 4000,
+            "every site has one above"
+        );
+        assert_eq!(c.rest_by_column.iter().sum::<u64>(), c.rest_particles);
+        assert_eq!(c.holes_by_column.iter().sum::<u64>(), c.lane_holes);
+        for k in 0..2 {
+            assert!(c.above_holes_before[k] <= c.above[k] && c.holes_up[0][k] <= c.above[k]);
+        }
         for (k, rule) in COUNTED.iter().enumerate().take(2) {
             let (m, s) = (
                 (c.matched[k][0] + c.matched[k][1]) as f64,
