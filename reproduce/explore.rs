@@ -178,6 +178,10 @@ fn stops(
                 *h as f64 / (c.steps * params.length as u64) as f64
             ));
         }
+        line.push_str(", stops per step");
+        for k in &c.stops_by_column {
+            line.push_str(&format!(" {:.3}", *k as f64 / c.steps as f64));
+        }
         // how far up: the ratio of the two, d rows above
         line.push_str("; ratio d rows above (d = 1..16):");
         for h in c.holes_up {

@@ -75,6 +75,9 @@ pub struct StopCounts {
     pub rest_by_column: Vec<u64>,
     /// Per column x: sites with channel 4 empty just before the collisions.
     pub holes_by_column: Vec<u64>,
+    /// Per column x: movers stopped by the counted rules (with
+    /// [`StopCounts::rest_by_column`], a rest particle's lifetime there).
+    pub stops_by_column: Vec<u64>,
 }
 
 /// The rows above a site that [`StopCounts::holes_up`] looks at.
@@ -124,6 +127,7 @@ pub fn count_stops(
         steps,
         rest_by_column: vec![0; w],
         holes_by_column: vec![0; w],
+        stops_by_column: vec![0; w],
         ..StopCounts::default()
     };
     for _ in 0..steps {
@@ -181,6 +185,7 @@ pub fn count_stops(
                             Some(k) => {
                                 counts.matched[k][jam] += 1;
                                 counts.stopped[k][jam] += stopped;
+                                counts.stops_by_column[x] += stopped;
                             }
                             None => counts.stopped_elsewhere += stopped,
                         }
@@ -225,6 +230,8 @@ mod tests {
         );
         assert_eq!(c.rest_by_column.iter().sum::<u64>(), c.rest_particles);
         assert_eq!(c.holes_by_column.iter().sum::<u64>(), c.lane_holes);
+        let [a, b] = c.total();
+        assert_eq!(c.stops_by_column.iter().sum::<u64>(), a + b);
         for k in 0..2 {
             assert!(c.above_holes_before[k] <= c.above[k] && c.holes_up[0][k] <= c.above[k]);
         }
