@@ -77,7 +77,8 @@ pub fn caption_size(title: &str, width: u32, max: f64) -> f64 {
 
 /// A chart builder in the house style: `title` in 20 pt (smaller if it
 /// would not fit), a margin of 15 pixels (35 on the right, where the last
-/// x tick label is centred on the edge), 50 pixels for the x labels and `y_labels` for the y labels.
+/// x tick label is centred on the edge), 50 pixels for the x labels and
+/// `y_labels` for the y labels.
 pub fn chart_builder<'a, 'b, DB: DrawingBackend>(
     root: &'a DrawingArea<DB, Shift>,
     title: &str,

@@ -9,9 +9,9 @@
 //! claim would need"). It also counts the holes of the lane (channel 4
 //! empty) at the rest particles and elsewhere, before gravity and before the
 //! collisions, since the rest particles' lifetime turned out to set the
-//! p-dependence (session 11), and the holes at the site above a rest
-//! particle before and after its collisions (session 12). It observes the run through [`super::order`]
-//! and cannot change it.
+//! p-dependence (session 11), and the holes above a rest particle and the
+//! counts per column (session 12). It observes the run through
+//! [`super::order`] and cannot change it.
 
 use super::collision::{bit, Rule, MOVERS, REST_BIT};
 use super::order::{step_observed, Stage};
@@ -172,11 +172,12 @@ pub fn count_stops(
                         // the site just above, seen from a site that now
                         // holds a rest particle (0) or not (1)
                         let up = (y + 1) % l;
-                        let k = (p.site(x, y) & REST_BIT == 0) as usize;
-                        counts.above[k] += 1;
-                        counts.above_holes_before[k] += (before[x * l + up] & bit(4) == 0) as u64;
+                        let side = (p.site(x, y) & REST_BIT == 0) as usize;
+                        counts.above[side] += 1;
+                        counts.above_holes_before[side] +=
+                            (before[x * l + up] & bit(4) == 0) as u64;
                         for (d, h) in counts.holes_up.iter_mut().enumerate() {
-                            h[k] += (p.site(x, (y + 1 + d) % l) & bit(4) == 0) as u64;
+                            h[side] += (p.site(x, (y + 1 + d) % l) & bit(4) == 0) as u64;
                         }
                         match COUNTED
                             .iter()

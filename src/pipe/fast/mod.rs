@@ -10,7 +10,8 @@
 //! 32-bit uniform number per lane with the reference's threshold, drawing
 //! its bits only as long as the comparison is undecided. The extra rest
 //! particles of R4/R5 are relocated one by one by the scalar walk of the
-//! reference (MODEL.md A4), on a neighbour table ([`walk`]). Every rule reading of [`Rules`] is supported.
+//! reference (MODEL.md A4), on a neighbour table ([`walk`]). Every rule
+//! reading of [`Rules`] is supported.
 //!
 //! ```
 //! use granular_automata::pipe::engine::PipeEngine;
