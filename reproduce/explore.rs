@@ -158,13 +158,18 @@ fn stops(
         ));
         // the site above: its channel 4 before and after its collisions,
         // above a site that holds a rest particle after them, and elsewhere
-        let frac = |h: [u64; 2], k: usize| h[k] as f64 / c.above[k].max(1) as f64;
+        // "n/a" where there is nothing to divide by (no rest particle, or
+        // no hole elsewhere), never a 0 that looks measured
+        let frac =
+            |h: [u64; 2], k: usize| (c.above[k] > 0).then(|| h[k] as f64 / c.above[k] as f64);
+        let show =
+            |v: Option<f64>, digits: usize| v.map_or("n/a".into(), |v| format!("{v:.digits$}"));
         line.push_str(&format!(
-            "; site above a rest particle: channel 4 empty {:.4} before its collisions, {:.4} after; above the other sites {:.4}, {:.4}",
-            frac(c.above_holes_before, 0),
-            frac(c.holes_up[0], 0),
-            frac(c.above_holes_before, 1),
-            frac(c.holes_up[0], 1)
+            "; site above a rest particle: channel 4 empty {} before its collisions, {} after; above the other sites {}, {}",
+            show(frac(c.above_holes_before, 0), 4),
+            show(frac(c.holes_up[0], 0), 4),
+            show(frac(c.above_holes_before, 1), 4),
+            show(frac(c.holes_up[0], 1), 4)
         ));
         // by column: rest particles per step, and the lane's holes
         line.push_str("; by column x = 0..W-1: rest particles per step");
@@ -185,7 +190,8 @@ fn stops(
         // how far up: the ratio of the two, d rows above
         line.push_str("; ratio d rows above (d = 1..16):");
         for h in c.holes_up {
-            line.push_str(&format!(" {:.3}", frac(h, 0) / frac(h, 1).max(1e-12)));
+            let ratio = frac(h, 0).zip(frac(h, 1).filter(|&e| e > 0.0));
+            line.push_str(&format!(" {}", show(ratio.map(|(a, b)| a / b), 3)));
         }
         Ok(line)
     });
