@@ -54,7 +54,7 @@ struct Args {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
     let rules = a.rules.parse()?;
-    let engine = a.rules.engine()?;
+    let engine = a.rules.engine(granular_automata::run::Tier::Quick)?;
     let params = Params {
         length: a.length,
         width: a.width,

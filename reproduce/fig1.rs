@@ -46,7 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let c = &args.common;
     let rules = args.rules.parse()?;
-    let engine = args.rules.engine()?;
+    let engine = args.rules.engine(args.common.tier)?;
     let mut fig = Figure::start("fig1", "PH94 Fig. 1", c.tier, rules.to_string());
     fig.engine = engine.label();
     // Bands need the full length and duration (shorter pipes or runs do not form

@@ -60,7 +60,7 @@ const ONSET_WINDOW: u64 = 50;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let rules = args.pipe.rules.parse()?;
-    let engine = args.pipe.rules.engine()?;
+    let engine = args.pipe.rules.engine(args.pipe.common.tier)?;
     let c = &args.pipe.common;
     let steps = args.steps;
     let min_steps = (SKIP + T_MAX + 2) as u64 * EVERY;

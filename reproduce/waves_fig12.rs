@@ -140,7 +140,7 @@ fn mean_total(v: &[TrendRun]) -> Vec<(f64, f64)> {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let rules = args.pipe.rules.parse()?;
-    let engine = args.pipe.rules.engine()?;
+    let engine = args.pipe.rules.engine(args.pipe.common.tier)?;
     let c = &args.pipe.common;
     c.reject_shard("waves-fig12")?; // the bisection is sequential
     let base = Params {

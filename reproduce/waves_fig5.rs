@@ -51,7 +51,7 @@ const WAVE_RUN: f64 = 2.0;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, c) = args.wave.start("waves-fig5", "PH95 Fig. 5")?;
-    let engine = args.wave.rules.engine()?;
+    let engine = args.wave.rules.engine(args.wave.common.tier)?;
     let runs = c.runs_or(8, 16, 64);
     let params = args.wave.pipe(args.length, BIN)?;
     let steady = Steady::ph95(c.tier, c.tier.pick(1024, 2048, 2048), T0);

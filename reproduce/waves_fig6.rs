@@ -26,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &fig,
         &args.common,
         args.rules.parse()?,
-        args.rules.engine()?,
+        args.rules.engine(args.common.tier)?,
     )?;
     Ok(())
 }

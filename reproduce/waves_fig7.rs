@@ -23,7 +23,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "PH95 Fig. 7: white-noise spectra at p = 0 and at b = 0 (peak at v = 1/2)",
     );
     let rules = args.rules.parse()?;
-    let engine = args.rules.engine()?;
+    let engine = args.rules.engine(args.common.tier)?;
     // L = 220, W = 11, rho = 1, g = 0.5
     let base = Params::default();
     let cases = [

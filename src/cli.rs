@@ -79,7 +79,9 @@ pub fn check_two_bins(length: usize, bin: usize) -> crate::Result<()> {
 /// Options every figure binary takes (flatten into its own `clap::Parser`).
 #[derive(Debug, Clone, clap::Args)]
 pub struct Common {
-    /// How much to compute: quick (seconds), standard (minutes), paper (published sizes).
+    /// How much to compute: quick (seconds), standard (minutes), paper
+    /// (published sizes), acceptance (published sizes, fast engine for the
+    /// pipe, the acceptance estimators and run counts).
     #[arg(long, value_enum, default_value_t = Tier::Quick)]
     pub tier: Tier,
     /// Base seed; run i of an ensemble uses derive_seed(seed, i).
@@ -109,9 +111,10 @@ pub struct PipeRules {
     #[arg(long, default_value = "default")]
     pub rules: String,
     /// Engine: reference (plain, one byte per site) or fast (bit-sliced,
-    /// validated against the reference by `validate`; issue 13).
-    #[arg(long, default_value = "reference")]
-    pub engine: String,
+    /// validated against the reference by `validate`). Default: reference,
+    /// but fast at --tier acceptance.
+    #[arg(long)]
+    pub engine: Option<String>,
 }
 
 /// The options of a pipe figure: [`Common`] and `--rules`.
@@ -147,10 +150,16 @@ impl PipeRules {
         self.rules.parse()
     }
 
-    /// Parse `--engine`; the chart titles drawn from then on name it
-    /// (`[reference engine]`, `[fast engine]`).
-    pub fn engine(&self) -> crate::Result<crate::pipe::engine::Engine> {
-        let e: crate::pipe::engine::Engine = self.engine.parse()?;
+    /// Parse `--engine` (when absent: `fast` at the acceptance tier,
+    /// `reference` at the others); the chart titles drawn from then on name
+    /// it (`[reference engine]`, `[fast engine]`).
+    pub fn engine(&self, tier: Tier) -> crate::Result<crate::pipe::engine::Engine> {
+        let default = if tier.is_acceptance() {
+            "fast"
+        } else {
+            "reference"
+        };
+        let e: crate::pipe::engine::Engine = self.engine.as_deref().unwrap_or(default).parse()?;
         crate::plot::set_caption_note(&format!("{e} engine"));
         Ok(e)
     }
@@ -166,7 +175,7 @@ impl PipeRules {
     ) -> crate::Result<(Figure, Rules, &'c Common)> {
         let rules = self.parse()?;
         let mut fig = Figure::start(binary, paper, common.tier, rules.to_string());
-        fig.engine = self.engine()?.label();
+        fig.engine = self.engine(common.tier)?.label();
         Ok((fig, rules, common))
     }
 }
@@ -238,6 +247,23 @@ impl Common {
         self.runs.unwrap_or(self.tier.pick(quick, standard, paper))
     }
 
+    /// [`Common::runs_or`] for a figure with an acceptance design: at the
+    /// acceptance tier the run count of its power analysis
+    /// ([`crate::drivers::acceptance`]), otherwise the tier's default.
+    pub fn runs_for(
+        &self,
+        quick: usize,
+        standard: usize,
+        paper: usize,
+        acceptance: usize,
+    ) -> usize {
+        match (self.runs, self.tier) {
+            (Some(n), _) => n,
+            (None, Tier::Acceptance) => acceptance,
+            (None, t) => t.pick(quick, standard, paper),
+        }
+    }
+
     /// The ensemble runner of a figure (`crate::ensemble`): `runs` runs of the
     /// configuration `key` (tier, parameters, rules: everything that changes a
     /// run's result) with `--seed`, `--shard` and `--threads` applied, saving
@@ -301,7 +327,7 @@ mod tests {
             common: parse(&[]).unwrap().common,
             rules: PipeRules {
                 rules: "default".into(),
-                engine: "reference".into(),
+                engine: None,
             },
             p: 0.1,
         };

@@ -711,9 +711,9 @@ mod tests {
     fn the_caption_note_names_the_engine() {
         let args = crate::cli::PipeRules {
             rules: "default".to_string(),
-            engine: "fast".to_string(),
+            engine: Some("fast".to_string()),
         };
-        args.engine().unwrap();
+        args.engine(crate::run::Tier::Quick).unwrap();
         assert_eq!(captioned("PH95 Fig. 12"), "PH95 Fig. 12 [fast engine]");
         set_caption_note("");
         assert_eq!(captioned("PH95 Fig. 12"), "PH95 Fig. 12");

@@ -15,7 +15,9 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 /// How much a figure computes: `quick` (seconds, for tests), `standard`
-/// (minutes) or `paper` (the published sizes).
+/// (minutes), `paper` (the published sizes) or `acceptance` (the published
+/// sizes on the validated fast engine, with the acceptance estimators and
+/// run counts of [`crate::drivers::acceptance`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Tier {
@@ -25,6 +27,11 @@ pub enum Tier {
     Standard,
     /// The sizes and lengths of the published figure.
     Paper,
+    /// The published sizes and lengths, as `paper`, graded for acceptance:
+    /// the pipe on the fast engine unless `--engine` says otherwise, the
+    /// estimators and margins fixed in `drivers::acceptance` before
+    /// measuring, and run counts chosen from a pilot's power analysis.
+    Acceptance,
 }
 
 impl Tier {
@@ -34,16 +41,23 @@ impl Tier {
             Tier::Quick => "quick",
             Tier::Standard => "standard",
             Tier::Paper => "paper",
+            Tier::Acceptance => "acceptance",
         }
     }
 
-    /// Pick one of three values by tier.
+    /// Pick one of three values by tier; `acceptance` takes the paper's
+    /// value (it runs the published set-ups).
     pub fn pick<T>(self, quick: T, standard: T, paper: T) -> T {
         match self {
             Tier::Quick => quick,
             Tier::Standard => standard,
-            Tier::Paper => paper,
+            Tier::Paper | Tier::Acceptance => paper,
         }
+    }
+
+    /// Whether this is the acceptance tier.
+    pub fn is_acceptance(self) -> bool {
+        self == Tier::Acceptance
     }
 }
 

@@ -17,6 +17,7 @@
 pub mod fit;
 pub mod grading;
 pub mod relaxation;
+pub mod resample;
 pub mod spectrum;
 pub mod stats;
 pub mod waves;

@@ -6,6 +6,7 @@
 //! [`crate::hopper`]) and the analysis ([`crate::analysis`]) never import this
 //! layer or the CLI.
 
+pub mod acceptance;
 pub mod claims;
 pub mod open_pipe;
 pub mod spectra;

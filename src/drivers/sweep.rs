@@ -513,7 +513,7 @@ impl<'a> SweepFigure<'a> {
         points: Vec<SweepPoint>,
     ) -> Result<Option<Self>> {
         let (figure, rules, c) = args.rules.start(&args.common, binary, paper)?;
-        let engine = args.rules.engine()?;
+        let engine = args.rules.engine(args.common.tier)?;
         let runs = c.runs_or(2, 8, 32);
         let setup_of = |p| super::spectra::tier_setup(c.tier, p, rules, engine);
         let Some(results) = run_sweep(c, binary, &points, runs, setup_of)? else {
