@@ -149,22 +149,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             })
             .into_iter()
             .collect::<granular_automata::Result<Vec<_>>>()?;
-            let open = open_choice_values(&setup, &series)?;
-            let (a0, v0) = (open[0].1, open[0].2);
-            println!(
-                "open choices on the first {n_open} runs (alpha, v of the averaged spectrum):"
-            );
-            let (mut sa, mut sv) = (0f64, 0f64);
-            for (name, a, v) in &open {
-                println!(
-                    "  {name:24} alpha {a:.4} ({:+.4})  v {v:.4} ({:+.4})",
-                    a - a0,
-                    v - v0
-                );
-                sa = sa.max((a - a0).abs());
-                sv = sv.max((v - v0).abs());
+            let open = if n_open >= 1 {
+                open_choice_values(&setup, &series)?
+            } else {
+                Vec::new()
+            };
+            let (mut sa, mut sv, mut sr) = (0f64, 0f64, 0f64);
+            if let Some(&(_, a0, v0, r0)) = open.first() {
+                println!("open choices on the first {n_open} runs (alpha, v, v refined of the averaged spectrum):");
+                for (name, a, v, r) in &open {
+                    println!(
+                        "  {name:24} alpha {a:.4} ({:+.4})  v {v:.4} ({:+.4})  v refined {r:.4} ({:+.4})",
+                        a - a0,
+                        v - v0,
+                        r - r0
+                    );
+                    sa = sa.max((a - a0).abs());
+                    sv = sv.max((v - v0).abs());
+                    sr = sr.max((r - r0).abs());
+                }
+                println!("s_open: alpha {sa:.4}, v {sv:.4}, v refined {sr:.4}");
             }
-            println!("s_open: alpha {sa:.4}, v {sv:.4}");
             // power: runs to decide each check from the pilot's pooled value
             // and its per-run spread (SE of a group x sqrt(group)).
             for (check, cand) in [
@@ -193,8 +198,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let json = serde_json::json!({
                 "figure": figure, "seed": common.seed, "runs": runs, "group": group,
                 "candidates": report,
-                "open_choices": open.iter().map(|(n, a, v)| serde_json::json!({"choice": n, "alpha": a, "v": v})).collect::<Vec<_>>(),
-                "s_open_alpha": sa, "s_open_v": sv,
+                "open_choices": open.iter().map(|(n, a, v, r)| serde_json::json!({"choice": n, "alpha": a, "v": v, "v_refined": r})).collect::<Vec<_>>(),
+                "s_open_alpha": sa, "s_open_v": sv, "s_open_v_refined": sr,
             });
             let path = common
                 .out

@@ -7,10 +7,11 @@
 
 use granular_automata::analysis::grading::Claim;
 use granular_automata::cli::PipeArgs;
+use granular_automata::drivers::acceptance::{alpha_of_mean, margin, v_of_mean};
 use granular_automata::drivers::claims::ALPHA_MARGIN;
 use granular_automata::drivers::spectra::{
     resumable_ensemble, spectra_chart, spectrum_lines, spectrum_rows, tier_setup, SpectrumEnsemble,
-    DISCREPANCY,
+    SpectrumSetup, DISCREPANCY,
 };
 use granular_automata::pipe::Params;
 use granular_automata::run::{derive_seed, mark_discrepancies, Check, Output, Summary};
@@ -44,7 +45,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             },
         ),
     ];
-    let runs = args.common.runs_or(4, 8, 8);
+    let acceptance = args.common.tier.is_acceptance();
+    let runs = args.common.runs_for(
+        4,
+        8,
+        8,
+        margin("waves-fig7", "alpha_p0").map_or(8, |m| m.runs),
+    );
     let seeds: Vec<u64> = (0..runs as u64)
         .map(|i| derive_seed(args.common.seed, i))
         .collect();
@@ -99,7 +106,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &format!("white noise at {what}; mean of the per-run fitted alpha, margin Delta = {ALPHA_MARGIN} as in pipe-matrix"),
         )
     };
-    let mut checks = vec![
+    let mut checks = if acceptance {
+        acceptance_checks(&setup0, &ens)?
+    } else {
+        vec![
         white("alpha_p0", &ens[0], "p = 0"),
         white("alpha_b0", &ens[1], "b = 0"),
         // "exactly 1/2" is a spectral line: its position in the averaged
@@ -114,7 +124,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             },
             "peak of the averaged spectrum at b = 0, SE of the per-run peaks; margin Delta = two frequency bins",
         ),
-    ];
+        ]
+    };
     mark_discrepancies(&mut checks, DISCREPANCY);
     out.finish(&Summary {
         figure: "waves-fig7".into(),
@@ -131,4 +142,41 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         checks,
     })?;
     Ok(())
+}
+
+/// The checks at the acceptance tier: the estimators and margins of
+/// `drivers::acceptance` (fit of the averaged spectrum, jackknife SE; peak
+/// of the averaged spectrum, bootstrap SE).
+fn acceptance_checks(
+    setup: &SpectrumSetup,
+    ens: &[SpectrumEnsemble],
+) -> granular_automata::Result<Vec<Check>> {
+    let mut checks = Vec::new();
+    for (check, e) in [("alpha_p0", &ens[0]), ("alpha_b0", &ens[1])] {
+        if let Some(m) = margin("waves-fig7", check) {
+            checks.push(Check::published(
+                check,
+                m.source,
+                alpha_of_mean(&e.runs)?,
+                m.claim(),
+                &format!(
+                    "fit of the averaged spectrum, jackknife SE over runs; {}",
+                    m.note()
+                ),
+            ));
+        }
+    }
+    if let Some(m) = margin("waves-fig7", "v_peak_b0") {
+        checks.push(Check::published(
+            "v_peak_b0",
+            m.source,
+            v_of_mean(setup, &ens[1].runs)?,
+            m.claim(),
+            &format!(
+                "peak of the averaged spectrum at b = 0, bootstrap SE over runs; {}",
+                m.note()
+            ),
+        ));
+    }
+    Ok(checks)
 }
