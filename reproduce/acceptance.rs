@@ -7,7 +7,8 @@
 
 use clap::{Parser, Subcommand};
 use granular_automata::cli::Common;
-use granular_automata::drivers::acceptance::{margin, open_choice_values, pilot, runs_to_decide};
+use granular_automata::drivers::acceptance::margin;
+use granular_automata::drivers::acceptance_study::{open_choice_values, pilot, runs_to_decide};
 use granular_automata::drivers::spectra::{bin_series, resumable_ensemble, tier_setup};
 use granular_automata::pipe::engine::Engine;
 use granular_automata::pipe::{Params, Rules};
@@ -209,7 +210,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!("wrote {}", path.display());
         }
         What::Stability { from, figure } => {
-            let table = granular_automata::drivers::acceptance::stability(&from, &figure)?;
+            let table = granular_automata::drivers::acceptance_study::stability(&from, &figure)?;
             print!("{table}");
         }
     }

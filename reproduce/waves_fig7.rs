@@ -6,8 +6,9 @@
 //! `cargo run --release --bin waves-fig7 -- --tier quick`
 
 use granular_automata::analysis::grading::Claim;
+use granular_automata::analysis::mean_spectrum::{alpha_of_mean, v_of_mean};
 use granular_automata::cli::PipeArgs;
-use granular_automata::drivers::acceptance::{alpha_of_mean, margin, v_of_mean};
+use granular_automata::drivers::acceptance::margin;
 use granular_automata::drivers::claims::ALPHA_MARGIN;
 use granular_automata::drivers::spectra::{
     resumable_ensemble, spectra_chart, spectrum_lines, spectrum_rows, tier_setup, SpectrumEnsemble,
@@ -157,7 +158,7 @@ fn acceptance_checks(
             checks.push(Check::published(
                 check,
                 m.source,
-                alpha_of_mean(&e.runs)?,
+                alpha_of_mean(&e.spectra())?,
                 m.claim(),
                 &format!(
                     "fit of the averaged spectrum, jackknife SE over runs; {}",
@@ -170,7 +171,7 @@ fn acceptance_checks(
         checks.push(Check::published(
             "v_peak_b0",
             m.source,
-            v_of_mean(setup, &ens[1].runs)?,
+            v_of_mean(&ens[1].spectra(), setup.params.length, setup.t0)?,
             m.claim(),
             &format!(
                 "peak of the averaged spectrum at b = 0, bootstrap SE over runs; {}",

@@ -16,6 +16,7 @@
 
 pub mod fit;
 pub mod grading;
+pub mod mean_spectrum;
 pub mod relaxation;
 pub mod resample;
 pub mod spectrum;

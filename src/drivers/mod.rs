@@ -7,6 +7,7 @@
 //! layer or the CLI.
 
 pub mod acceptance;
+pub mod acceptance_study;
 pub mod claims;
 pub mod open_pipe;
 pub mod spectra;

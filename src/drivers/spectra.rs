@@ -144,6 +144,12 @@ pub struct SpectrumEnsemble {
 }
 
 impl SpectrumEnsemble {
+    /// The runs' spectra, one row per run (for the estimators of
+    /// [`crate::analysis::mean_spectrum`]).
+    pub fn spectra(&self) -> Vec<Vec<f64>> {
+        self.runs.iter().map(|r| r.spectrum.clone()).collect()
+    }
+
     /// The per-run alpha as an estimate for grading (mean, SE, runs).
     pub fn alpha_estimate(&self) -> Estimate {
         Estimate::new(self.alpha, self.alpha_err, self.runs.len())
@@ -457,7 +463,7 @@ pub fn run_figure(
     let mut checks = Vec::new();
     if acceptance {
         // the estimators and margins fixed before measuring (drivers::acceptance)
-        let alpha = super::acceptance::alpha_of_mean(&ens.runs)?;
+        let alpha = crate::analysis::mean_spectrum::alpha_of_mean(&ens.spectra())?;
         metrics.insert("alpha_of_mean_spectrum_jackknife_se".to_string(), alpha.se);
         if let Some(m) = margin("alpha") {
             checks.push(Check::published(
@@ -473,7 +479,11 @@ pub fn run_figure(
             ));
         }
         if let (Some(m), Some(_)) = (margin("v_peak"), fig.v_peak) {
-            let v = super::acceptance::v_of_mean(&setup, &ens.runs)?;
+            let v = crate::analysis::mean_spectrum::v_of_mean(
+                &ens.spectra(),
+                setup.params.length,
+                setup.t0,
+            )?;
             metrics.insert("v_peak_bootstrap_se".to_string(), v.se);
             checks.push(Check::published(
                 "v_peak",

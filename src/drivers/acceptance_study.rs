@@ -1,0 +1,322 @@
+//! The studies behind the acceptance tier (issue 29): the pilot that
+//! compares candidate estimators over disjoint groups of runs and measures
+//! the spread over the papers' open choices ([`pilot`],
+//! [`open_choice_values`]), the power analysis ([`runs_to_decide`]), and
+//! the stability of the verdicts over base seeds ([`stability`]). The
+//! `acceptance` binary runs them; EXPERIMENTS.md "Acceptance at the
+//! published set-ups" records what they gave.
+
+use crate::analysis::fit::{
+    default_peak_half_width, exclude_peak, find_peak_contrast, fit_power_law, wave_velocity,
+    PowerLawParams,
+};
+use crate::analysis::grading::Estimate;
+use crate::analysis::mean_spectrum::{
+    alpha_of_mean, refined_peak, v_of_mean, v_of_mean_refined, BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED,
+};
+use crate::analysis::resample::{bootstrap_se, mean_of_rows};
+use crate::analysis::spectrum::{spctrm, SpectrumParams, Window};
+use crate::error::Result;
+use crate::run::median;
+use serde::Serialize;
+
+use super::spectra::{SpectrumRun, SpectrumSetup};
+
+/// The median of per-run values with its bootstrap standard error.
+fn median_of(values: &[f64]) -> Result<Estimate> {
+    let se = bootstrap_se(
+        values.len(),
+        BOOTSTRAP_RESAMPLES,
+        BOOTSTRAP_SEED,
+        |idx: &[usize]| Ok(median(&idx.iter().map(|&i| values[i]).collect::<Vec<_>>())),
+    )?;
+    Ok(Estimate::new(median(values), se, values.len()))
+}
+
+/// The candidate estimators the pilot compares: name and estimate.
+pub fn candidates(setup: &SpectrumSetup, runs: &[SpectrumRun]) -> Result<Vec<(String, Estimate)>> {
+    let rows: Vec<Vec<f64>> = runs.iter().map(|r| r.spectrum.clone()).collect();
+    let (length, t0) = (setup.params.length, setup.t0);
+    let alphas: Vec<f64> = runs.iter().map(|r| r.alpha).collect();
+    let vs: Vec<f64> = runs.iter().map(|r| r.v_peak).collect();
+    let mut v_mean_runs_se = v_of_mean(&rows, length, t0)?;
+    v_mean_runs_se.se = Estimate::of(&vs).se;
+    Ok(vec![
+        ("alpha: mean of per-run fits".into(), Estimate::of(&alphas)),
+        ("alpha: median of per-run fits".into(), median_of(&alphas)?),
+        (
+            "alpha: fit of mean spectrum (jackknife)".into(),
+            alpha_of_mean(&rows)?,
+        ),
+        ("v: mean of per-run peaks".into(), Estimate::of(&vs)),
+        ("v: median of per-run peaks".into(), median_of(&vs)?),
+        (
+            "v: peak of mean spectrum, SE of per-run peaks".into(),
+            v_mean_runs_se,
+        ),
+        (
+            "v: peak of mean spectrum (bootstrap)".into(),
+            v_of_mean(&rows, length, t0)?,
+        ),
+        (
+            "v: refined peak of mean spectrum (jackknife)".into(),
+            v_of_mean_refined(&rows, length, t0)?,
+        ),
+    ])
+}
+
+/// What the pilot says of one candidate estimator: its value on all pilot
+/// runs, and over disjoint groups of runs its stated SE against the spread
+/// of its values.
+#[derive(Debug, Clone, Serialize)]
+pub struct CandidateReport {
+    /// The estimator.
+    pub name: String,
+    /// Its value on all the pilot's runs.
+    pub pooled: f64,
+    /// Runs per group.
+    pub group_runs: usize,
+    /// Number of groups.
+    pub groups: usize,
+    /// Mean stated SE over groups.
+    pub mean_se: f64,
+    /// Standard deviation of the group values.
+    pub sd_between: f64,
+    /// sd_between / mean_se (1 when the stated SE is honest).
+    pub ratio: f64,
+    /// Share of groups whose interval value +- 2 SE holds the pooled value.
+    pub coverage: f64,
+}
+
+/// Compare the [`candidates`] on disjoint groups of `group` runs of the
+/// pilot's `runs` (see [`CandidateReport`]).
+pub fn pilot(
+    setup: &SpectrumSetup,
+    runs: &[SpectrumRun],
+    group: usize,
+) -> Result<Vec<CandidateReport>> {
+    let pooled = candidates(setup, runs)?;
+    let groups: Vec<Vec<(String, Estimate)>> = runs
+        .chunks_exact(group)
+        .map(|g| candidates(setup, g))
+        .collect::<Result<_>>()?;
+    Ok(pooled
+        .iter()
+        .enumerate()
+        .map(|(c, (name, all))| {
+            let vals: Vec<f64> = groups.iter().map(|g| g[c].1.mean).collect();
+            let ses: Vec<f64> = groups.iter().map(|g| g[c].1.se).collect();
+            let g = vals.len() as f64;
+            let mean_se = ses.iter().sum::<f64>() / g;
+            let sd_between = Estimate::of(&vals).se * g.sqrt();
+            let covered = vals
+                .iter()
+                .zip(&ses)
+                .filter(|(v, s)| (*v - all.mean).abs() <= 2.0 * *s)
+                .count();
+            CandidateReport {
+                name: name.clone(),
+                pooled: all.mean,
+                group_runs: group,
+                groups: vals.len(),
+                mean_se,
+                sd_between,
+                ratio: sd_between / mean_se,
+                coverage: covered as f64 / g,
+            }
+        })
+        .collect())
+}
+
+/// One of the choices the paper leaves open, applied to a recorded series.
+#[derive(Debug, Clone, Copy)]
+pub struct OpenChoice {
+    /// Short name.
+    pub name: &'static str,
+    /// The spectrum estimator.
+    pub spectrum: SpectrumParams,
+    /// Half-width of the removed peak, in bins of m = 16384 (scaled to m).
+    pub peak_half_width_16384: usize,
+}
+
+/// The open choices measured for s_open: the default (NR 1988 "Parzen",
+/// k = 4, m = 16384, peak +-16 bins), the 1992 NR triangle, the two other
+/// readings of "S = 4 segments" (4 segments of 64K samples: m = 32768,
+/// k = 2; segments of M = 16384 samples over the whole series: m = 8192,
+/// k = 8), and half and double the removed peak width.
+pub fn open_choices() -> Vec<OpenChoice> {
+    let base = SpectrumParams::default();
+    let c = |name, spectrum, peak_half_width_16384| OpenChoice {
+        name,
+        spectrum,
+        peak_half_width_16384,
+    };
+    vec![
+        c("default", base, 16),
+        c(
+            "window bartlett1992",
+            SpectrumParams {
+                window: Window::Bartlett1992,
+                ..base
+            },
+            16,
+        ),
+        c(
+            "segments m=32768 k=2",
+            SpectrumParams {
+                m: 32768,
+                k: 2,
+                ..base
+            },
+            16,
+        ),
+        c(
+            "segments m=8192 k=8",
+            SpectrumParams {
+                m: 8192,
+                k: 8,
+                ..base
+            },
+            16,
+        ),
+        c("peak half-width 8", base, 8),
+        c("peak half-width 32", base, 32),
+    ]
+}
+
+/// alpha, v (peak bin) and v (refined peak) of the averaged spectrum of
+/// `series` (one per run) under each open choice: rows (choice, alpha, v,
+/// v refined).
+pub fn open_choice_values(
+    setup: &SpectrumSetup,
+    series: &[Vec<f64>],
+) -> Result<Vec<(&'static str, f64, f64, f64)>> {
+    open_choices()
+        .into_iter()
+        .map(|c| {
+            let rows = series
+                .iter()
+                .map(|s| spctrm(s, &c.spectrum))
+                .collect::<Result<Vec<_>>>()?;
+            let all: Vec<usize> = (0..rows.len()).collect();
+            let p = mean_of_rows(&rows, &all);
+            let m = p.len();
+            let mut params = PowerLawParams::default_for(m);
+            let (j, _) = find_peak_contrast(&p, params.j_lo, params.j_hi)?;
+            let hw = (c.peak_half_width_16384 * m / 16384).max(1);
+            debug_assert!(hw >= 1 && default_peak_half_width(16384) == 16);
+            params.exclude.push(exclude_peak(j, hw));
+            let alpha = fit_power_law(&p, &params)?.alpha;
+            let v = wave_velocity(setup.params.length, j, setup.t0 as usize, m);
+            let v_refined =
+                setup.params.length as f64 * refined_peak(&p)? / (setup.t0 as f64 * 2.0 * m as f64);
+            Ok((c.name, alpha, v, v_refined))
+        })
+        .collect()
+}
+
+/// Runs needed to decide an equivalence claim at margin `delta` when the
+/// difference is `d` and one run has spread `sigma` (SE = sigma/sqrt(n)):
+/// the n at which | |d| - delta | = (2 + 1.645) sigma / sqrt(n), so that the
+/// verdict is decided in 95 % of seed sets. `None` when |d| = delta.
+pub fn runs_to_decide(d: f64, delta: f64, sigma: f64) -> Option<f64> {
+    let gap = (d.abs() - delta).abs();
+    (gap > 0.0).then(|| ((2.0 + 1.645) * sigma / gap).powi(2))
+}
+
+/// The verdicts of every check of `figure` over the base seeds whose
+/// summaries lie in `from/<seed folder>/<figure>/summary.json`: a Markdown
+/// table with, per check, the seeds, the verdict counts, the share of the
+/// most common verdict, the mean value and mean SE, and the coverage of
+/// value +- 2 SE around the inverse-variance pooled value of all seeds.
+///
+/// Errors: an unreadable folder or summary ([`crate::ErrorKind::Io`],
+/// [`crate::ErrorKind::BadSeries`]), or no summary at all.
+pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
+    use crate::error::{Error, ErrorKind};
+    use std::collections::BTreeMap;
+    let mut dirs: Vec<_> = std::fs::read_dir(from)
+        .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", from.display())))?
+        .filter_map(|e| e.ok().map(|e| e.path().join(figure).join("summary.json")))
+        .filter(|p| p.is_file())
+        .collect();
+    dirs.sort();
+    if dirs.is_empty() {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!("{}: no */{figure}/summary.json", from.display()),
+        ));
+    }
+    // check -> [(verdict, value, se)]
+    let mut rows: BTreeMap<String, Vec<(String, f64, f64)>> = BTreeMap::new();
+    for path in &dirs {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", path.display())))?;
+        let s: serde_json::Value = serde_json::from_str(&text)
+            .map_err(|e| Error::new(ErrorKind::BadSeries, format!("{}: {e}", path.display())))?;
+        for c in s["checks"].as_array().into_iter().flatten() {
+            rows.entry(c["name"].as_str().unwrap_or("?").to_string())
+                .or_default()
+                .push((
+                    c["verdict"].as_str().unwrap_or("?").to_string(),
+                    c["measured"].as_f64().unwrap_or(f64::NAN),
+                    c["error"].as_f64().unwrap_or(f64::NAN),
+                ));
+        }
+    }
+    let mut out = format!(
+        "{figure}: {} base seeds ({})\n\n| check | seeds | reproduced | not reproduced | undecided | modal share | mean value | mean SE | pooled | coverage of +-2 SE |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        dirs.len(),
+        from.display()
+    );
+    for (name, v) in &rows {
+        let count = |w: &str| v.iter().filter(|r| r.0 == w).count();
+        let (yes, no, und) = (
+            count("reproduced"),
+            count("not-reproduced"),
+            count("undecided"),
+        );
+        let n = v.len() as f64;
+        let modal = yes.max(no).max(und) as f64 / n;
+        let ok: Vec<_> = v
+            .iter()
+            .filter(|r| r.1.is_finite() && r.2.is_finite() && r.2 > 0.0)
+            .collect();
+        let (mean, se, pooled, cover) = if ok.is_empty() {
+            (f64::NAN, f64::NAN, f64::NAN, f64::NAN)
+        } else {
+            let k = ok.len() as f64;
+            let w: f64 = ok.iter().map(|r| 1.0 / (r.2 * r.2)).sum();
+            let pooled = ok.iter().map(|r| r.1 / (r.2 * r.2)).sum::<f64>() / w;
+            let cover = ok
+                .iter()
+                .filter(|r| (r.1 - pooled).abs() <= 2.0 * r.2)
+                .count() as f64
+                / k;
+            (
+                ok.iter().map(|r| r.1).sum::<f64>() / k,
+                ok.iter().map(|r| r.2).sum::<f64>() / k,
+                pooled,
+                cover,
+            )
+        };
+        out.push_str(&format!(
+            "| {name} | {} | {yes} | {no} | {und} | {modal:.2} | {mean:.4} | {se:.4} | {pooled:.4} | {cover:.2} |\n",
+            v.len()
+        ));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn runs_to_decide_grow_as_the_gap_closes() {
+        let far = runs_to_decide(0.2, 0.05, 0.1).unwrap();
+        let near = runs_to_decide(0.06, 0.05, 0.1).unwrap();
+        assert!(near > far * 100.0);
+        assert!(runs_to_decide(0.05, 0.05, 0.1).is_none());
+    }
+}

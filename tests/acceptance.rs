@@ -1,0 +1,77 @@
+//! Acceptance at the published set-ups (`--tier acceptance`, issue 29): the
+//! headline claims of PH94 Fig. 2 and PH95 Fig. 7 run as a user runs them,
+//! on the fast engine with the estimators and margins of
+//! `drivers::acceptance`, and each verdict is asserted as recorded for base
+//! seed 1 in EXPERIMENTS.md "Acceptance at the published set-ups" (with the
+//! stability of each verdict over 20 base seeds). A change to the model, an
+//! engine or the analysis that flips a verdict, or moves a value, fails here.
+//!
+//! Cost on two cores: fig2 about 290 CPU-s (128 runs of 2.6 million steps),
+//! waves-fig7 about 40 CPU-s (8 runs per case).
+
+mod common;
+
+use common::{run_figure, verdict};
+
+/// A recorded value: `measured` of check `name` equals `value` to 1e-9
+/// (runs are pure functions of seed, rules and engine: the same bytes).
+fn assert_value(s: &serde_json::Value, name: &str, value: f64, error: f64) {
+    let c = s["checks"]
+        .as_array()
+        .expect("checks")
+        .iter()
+        .find(|c| c["name"] == name)
+        .unwrap_or_else(|| panic!("check {name} present"));
+    let (m, e) = (
+        c["measured"].as_f64().unwrap(),
+        c["error"].as_f64().unwrap(),
+    );
+    assert!(
+        (m - value).abs() < 1e-9 && (e - error).abs() < 1e-9,
+        "{name}: measured {m} +- {e}, recorded {value} +- {error}"
+    );
+}
+
+#[test]
+fn ph94_fig2_at_the_published_set_up_alpha_undecided_v_reproduced() {
+    let s = run_figure(
+        "fig2",
+        env!("CARGO_BIN_EXE_fig2"),
+        &["--tier", "acceptance"],
+        "acceptance",
+        &["fig2.png", "spectrum.csv", "runs.csv"],
+    );
+    assert_eq!(s["tier"], "acceptance");
+    assert_eq!(s["engine"], "fast");
+    assert_eq!(s["seeds"].as_array().unwrap().len(), 128);
+    // alpha = 1.33 +- 0.059: undecided at every one of 20 base seeds (the
+    // model's alpha, ~1.26, lies just beyond the margin: ~3000 runs would
+    // decide it)
+    assert_eq!(verdict(&s, "alpha"), "undecided");
+    assert_value(&s, "alpha", ALPHA_SEED1.0, ALPHA_SEED1.1);
+    // v = 0.40 +- 0.007: see EXPERIMENTS for its stability over seeds
+    assert_eq!(verdict(&s, "v_peak"), "reproduced");
+    assert_value(&s, "v_peak", V_SEED1.0, V_SEED1.1);
+}
+
+/// alpha and its jackknife SE of `fig2 --tier acceptance --seed 1`.
+const ALPHA_SEED1: (f64, f64) = (1.2562365452968807, 0.010778077253337499);
+/// v and its bootstrap SE of `fig2 --tier acceptance --seed 1`.
+const V_SEED1: (f64, f64) = (0.39544677734375, 0.0006265051476578973);
+
+#[test]
+fn ph95_fig7_at_the_published_set_up_not_white_with_the_line_at_one_half() {
+    let s = run_figure(
+        "waves-fig7",
+        env!("CARGO_BIN_EXE_waves-fig7"),
+        &["--tier", "acceptance"],
+        "acceptance",
+        &["waves-fig7.png"],
+    );
+    assert_eq!(s["engine"], "fast");
+    // known discrepancies of the default reading: the spectra rise with
+    // frequency (alpha < 0) instead of being white
+    assert_eq!(verdict(&s, "alpha_p0"), "not-reproduced");
+    assert_eq!(verdict(&s, "alpha_b0"), "not-reproduced");
+    assert_eq!(verdict(&s, "v_peak_b0"), "reproduced");
+}
