@@ -278,27 +278,29 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
         );
         let n = v.len() as f64;
         let modal = yes.max(no).max(und) as f64 / n;
+        // values with a finite SE; the pooled value weighs each by 1/SE^2,
+        // or equally when some SE is 0 (e.g. a spectral line in one bin)
         let ok: Vec<_> = v
             .iter()
-            .filter(|r| r.1.is_finite() && r.2.is_finite() && r.2 > 0.0)
+            .filter(|r| r.1.is_finite() && r.2.is_finite() && r.2 >= 0.0)
             .collect();
         let (mean, se, pooled, cover) = if ok.is_empty() {
             (f64::NAN, f64::NAN, f64::NAN, f64::NAN)
         } else {
             let k = ok.len() as f64;
-            let w: f64 = ok.iter().map(|r| 1.0 / (r.2 * r.2)).sum();
-            let pooled = ok.iter().map(|r| r.1 / (r.2 * r.2)).sum::<f64>() / w;
+            let mean = ok.iter().map(|r| r.1).sum::<f64>() / k;
+            let pooled = if ok.iter().all(|r| r.2 > 0.0) {
+                let w: f64 = ok.iter().map(|r| 1.0 / (r.2 * r.2)).sum();
+                ok.iter().map(|r| r.1 / (r.2 * r.2)).sum::<f64>() / w
+            } else {
+                mean
+            };
             let cover = ok
                 .iter()
                 .filter(|r| (r.1 - pooled).abs() <= 2.0 * r.2)
                 .count() as f64
                 / k;
-            (
-                ok.iter().map(|r| r.1).sum::<f64>() / k,
-                ok.iter().map(|r| r.2).sum::<f64>() / k,
-                pooled,
-                cover,
-            )
+            (mean, ok.iter().map(|r| r.2).sum::<f64>() / k, pooled, cover)
         };
         out.push_str(&format!(
             "| {name} | {} | {yes} | {no} | {und} | {modal:.2} | {mean:.4} | {se:.4} | {pooled:.4} | {cover:.2} |\n",
@@ -311,6 +313,34 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn stability_counts_verdicts_over_seed_folders() {
+        let dir = std::env::temp_dir().join(format!("ga-stability-{}", std::process::id()));
+        let write = |seed: u32, verdict: &str, x: f64| {
+            let d = dir.join(format!("seed-{seed}")).join("fig2");
+            std::fs::create_dir_all(&d).unwrap();
+            let s = serde_json::json!({"checks": [
+                {"name": "alpha", "verdict": verdict, "measured": x, "error": 0.01},
+                {"name": "line", "verdict": "reproduced", "measured": 0.5, "error": 0.0},
+            ]});
+            std::fs::write(d.join("summary.json"), s.to_string()).unwrap();
+        };
+        write(1, "undecided", 1.265);
+        write(2, "undecided", 1.27);
+        write(3, "reproduced", 1.315);
+        let t = stability(&dir, "fig2").unwrap();
+        assert!(t.contains("3 base seeds"), "{t}");
+        assert!(t.contains("| alpha | 3 | 1 | 0 | 2 | 0.67 |"), "{t}");
+        // 1.315 lies more than 2 SE from the pooled 1.283: coverage 2 of 3
+        assert!(t.contains("| 0.67 |\n"), "{t}");
+        assert!(
+            t.contains("| line | 3 | 3 | 0 | 0 | 1.00 | 0.5000 | 0.0000 | 0.5000 | 1.00 |"),
+            "{t}"
+        );
+        assert!(stability(&dir, "nothing").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn runs_to_decide_grow_as_the_gap_closes() {
