@@ -307,6 +307,32 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
             v.len()
         ));
     }
+    // all seeds together: the mean of the seeds' values with the SE of their
+    // spread (n = seeds), graded by the acceptance margin
+    let mut pooled = String::new();
+    for (name, v) in &rows {
+        let Some(m) = super::acceptance::margin(figure, name) else {
+            continue;
+        };
+        let values: Vec<f64> = v.iter().map(|r| r.1).filter(|x| x.is_finite()).collect();
+        let est = Estimate::of(&values);
+        let verdict = crate::analysis::grading::grade(est, m.claim());
+        pooled.push_str(&format!(
+            "| {name} | {} | {:.4} +- {:.4} | {} +- {:.4} | {} |\n",
+            est.n,
+            est.mean,
+            est.se,
+            m.published,
+            m.delta(),
+            verdict.status()
+        ));
+    }
+    if !pooled.is_empty() {
+        out.push_str(&format!(
+            "\nAll {} seeds as one ensemble (the mean of the seeds' values, the SE of their spread, graded with n = seeds):\n\n| check | seeds | value | claim | verdict |\n|---|---|---|---|---|\n{pooled}",
+            dirs.len()
+        ));
+    }
     Ok(out)
 }
 
