@@ -205,7 +205,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let path = common
                 .out
                 .join(case.binary)
-                .join(format!("pilot-{}.json", case.name));
+                .join(format!("pilot-{}-group{group}.json", case.name));
             write_atomic(&path, serde_json::to_string_pretty(&json)?.as_bytes())?;
             println!("wrote {}", path.display());
         }
