@@ -24,8 +24,17 @@ use std::time::Instant;
 /// are the figure binaries.
 const CARGO_TOML: &str = include_str!("../Cargo.toml");
 
-/// Binaries that are not figures (no `summary.json`): never run.
-const NOT_FIGURES: [&str; 5] = ["bench", "explore", "merge", "report", "speed-accuracy"];
+/// Binaries that are not figures (no `summary.json` of a figure): never run.
+const NOT_FIGURES: [&str; 8] = [
+    "acceptance",
+    "bench",
+    "explore",
+    "merge",
+    "report",
+    "speed-accuracy",
+    "validate",
+    "validate-example",
+];
 
 /// Figures run only when named with `--only` (the rule-reading matrix:
 /// about half an hour of CPU at the quick tier).
@@ -1129,7 +1138,16 @@ mod tests {
         let all = all_binaries();
         assert!(all.contains(&"fig1") && all.contains(&"report"));
         let d = default_figures();
-        for tool in ["bench", "explore", "merge", "report", "pipe-matrix"] {
+        for tool in [
+            "acceptance",
+            "bench",
+            "explore",
+            "merge",
+            "report",
+            "pipe-matrix",
+            "validate",
+            "validate-example",
+        ] {
             assert!(!d.contains(&tool), "{tool} is not a default figure");
         }
         assert!(d.contains(&"hopper-fig2") && d.contains(&"waves-fig12"));
