@@ -129,30 +129,16 @@ pub const MARGINS: [Margin; 6] = [
         runs: 128,
         derivation: "no error bar: half a unit of the quoted 1.33; s_open = 0.0205 (peak half-width 8 instead of 16 bins; segment readings <= 0.0116, window 0.0000), 32 pilot runs of base seed 9001, rounded up; runs: no affordable count decides (pilot, 256 runs: alpha 1.297, |d| 0.033 lies 0.007 above Delta with 0.062 per run: ~1000 runs for a 95 % stable verdict), so the 2-minute count",
     },
-    Margin {
-        figure: "waves-fig7",
-        check: "alpha_p0",
-        source: "PH95 III E, Fig. 7 (white noise without dissipation, p = 0)",
-        published: 0.0,
-        sigma_pub: 0.0,
-        s_open: 0.046,
-        u_digits: 0.0,
-        threshold: WHITE_THRESHOLD,
-        runs: 8,
-        derivation: WHITE_REASON,
-    },
-    Margin {
-        figure: "waves-fig7",
-        check: "alpha_b0",
-        source: "PH95 III E, Fig. 7 (white noise without wall roughness, b = 0)",
-        published: 0.0,
-        sigma_pub: 0.0,
-        s_open: 0.263,
-        u_digits: 0.0,
-        threshold: WHITE_THRESHOLD,
-        runs: 8,
-        derivation: WHITE_REASON,
-    },
+    white(
+        "alpha_p0",
+        "PH95 III E, Fig. 7 (white noise without dissipation, p = 0)",
+        0.046,
+    ),
+    white(
+        "alpha_b0",
+        "PH95 III E, Fig. 7 (white noise without wall roughness, b = 0)",
+        0.263,
+    ),
     Margin {
         figure: "waves-fig7",
         check: "v_peak_b0",
@@ -172,6 +158,23 @@ pub const MARGINS: [Margin; 6] = [
 /// 1/f^0.1 changes by a factor 1.4 over the 1.4 decades of the fit range,
 /// within the scatter of one spectrum's points).
 pub const WHITE_THRESHOLD: f64 = 0.1;
+
+/// A white-noise row of PH95 Fig. 7: alpha = 0 within the threshold and
+/// the open-choice spread `s_open`, 8 runs.
+const fn white(check: &'static str, source: &'static str, s_open: f64) -> Margin {
+    Margin {
+        figure: "waves-fig7",
+        check,
+        source,
+        published: 0.0,
+        sigma_pub: 0.0,
+        s_open,
+        u_digits: 0.0,
+        threshold: WHITE_THRESHOLD,
+        runs: 8,
+        derivation: WHITE_REASON,
+    }
+}
 
 /// The derivation written with the white-noise rows.
 const WHITE_REASON: &str = "no number in the paper ('white'): threshold |alpha| <= 0.1 (pipe-matrix margin, fixed in session 2); s_open from 16 pilot runs of base seed 9001 (p = 0: 0.0452, segments of M = 16384 samples; b = 0: 0.2625, the removed peak's width, the line at v = 1/2 being large), rounded up; runs: pilot alpha -0.58 (p = 0) and -3.33 (b = 0), 0.17 and 0.18 per run: 2-3 runs decide in 95 % of seed sets, 8 for Student's t";
