@@ -25,7 +25,15 @@ use std::time::Instant;
 const CARGO_TOML: &str = include_str!("../Cargo.toml");
 
 /// Binaries that are not figures (no `summary.json`): never run.
-const NOT_FIGURES: [&str; 5] = ["bench", "explore", "merge", "report", "speed-accuracy"];
+const NOT_FIGURES: [&str; 7] = [
+    "bench",
+    "explore",
+    "merge",
+    "report",
+    "speed-accuracy",
+    "validate",
+    "validate-example",
+];
 
 /// Figures run only when named with `--only` (the rule-reading matrix:
 /// about half an hour of CPU at the quick tier).
@@ -87,7 +95,8 @@ pub fn all_binaries() -> Vec<&'static str> {
 }
 
 /// The figures a report runs by default: every `[[bin]]` except the tools
-/// (bench, explore, merge, report) and the on-request pipe-matrix.
+/// (bench, explore, merge, report, speed-accuracy, validate and its
+/// example) and the on-request pipe-matrix.
 pub fn default_figures() -> Vec<&'static str> {
     all_binaries()
         .into_iter()
@@ -1129,7 +1138,15 @@ mod tests {
         let all = all_binaries();
         assert!(all.contains(&"fig1") && all.contains(&"report"));
         let d = default_figures();
-        for tool in ["bench", "explore", "merge", "report", "pipe-matrix"] {
+        for tool in [
+            "bench",
+            "explore",
+            "merge",
+            "report",
+            "pipe-matrix",
+            "validate",
+            "validate-example",
+        ] {
             assert!(!d.contains(&tool), "{tool} is not a default figure");
         }
         assert!(d.contains(&"hopper-fig2") && d.contains(&"waves-fig12"));
@@ -1140,7 +1157,15 @@ mod tests {
         let s = select(Some("hopper-fig3, fig1")).unwrap();
         assert_eq!(s, vec!["fig1", "hopper-fig3"], "Cargo.toml order");
         assert_eq!(select(Some("pipe-matrix")).unwrap(), vec!["pipe-matrix"]);
-        for bad in ["fig99", "bench", "report", "", ","] {
+        for bad in [
+            "fig99",
+            "bench",
+            "report",
+            "validate",
+            "validate-example",
+            "",
+            ",",
+        ] {
             let e = select(Some(bad)).unwrap_err();
             assert_eq!(e.kind, ErrorKind::InvalidParameter, "{bad}");
             assert!(e.message.contains("fig1"), "lists the allowed names");
