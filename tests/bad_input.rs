@@ -370,10 +370,10 @@ fn a_folder_in_the_way_of_summary_json_is_named() {
 fn merge_rejects_foreign_runs_and_empty_or_file_shards() {
     let dir = scratch("merge-foreign");
     let fig3 = env!("CARGO_BIN_EXE_waves-fig3");
-    let shard = |name: &str, extra: &[&str]| {
+    let shard = |name: &str, shard: &str, extra: &[&str]| {
         let out = dir.join(name);
         let status = Command::new(fig3)
-            .args(["--runs", "2", "--shard", "0/2"])
+            .args(["--runs", "2", "--shard", shard])
             .args(extra)
             .arg("--out")
             .arg(&out)
@@ -385,15 +385,17 @@ fn merge_rejects_foreign_runs_and_empty_or_file_shards() {
         let hash = std::fs::read_dir(&runs).unwrap().next().unwrap().unwrap();
         hash.path()
     };
-    let good = shard("good", &["--steps", "480"]);
-    let other_seed = shard("seed2", &["--steps", "480", "--seed", "2"]);
-    let other_tier = shard("standard", &["--steps", "600", "--tier", "standard"]);
-    // a run file copied into the good run folder of another shard
+    // shard 0 holds run 0; the others' run 1 would complete it
+    let good = shard("good", "0/2", &["--steps", "480"]);
+    let other_seed = shard("seed2", "1/2", &["--steps", "480", "--seed", "2"]);
+    let other_tier = shard("standard", "1/2", &["--steps", "600", "--tier", "standard"]);
+    // run file `file` of `from` copied as `as_file` into the good run folder
+    // of another shard
     let hash = good.file_name().unwrap();
-    let smuggle = |name: &str, from: &PathBuf, as_file: &str| {
+    let smuggle = |name: &str, from: &PathBuf, file: &str, as_file: &str| {
         let folder = dir.join(name).join("waves-fig3").join("runs").join(hash);
         std::fs::create_dir_all(&folder).unwrap();
-        std::fs::copy(from.join("run-00000.json"), folder.join(as_file)).unwrap();
+        std::fs::copy(from.join(file), folder.join(as_file)).unwrap();
         dir.join(name)
     };
     // merge into `target`: exit 1 with every one of `want` in the message
@@ -415,16 +417,16 @@ fn merge_rejects_foreign_runs_and_empty_or_file_shards() {
     let good_out = dir.join("good");
     for (bad, want) in [
         (
-            smuggle("x-seed", &other_seed, "run-00000.json"),
+            smuggle("x-seed", &other_seed, "run-00001.json", "run-00001.json"),
             "base_seed: 2 vs 1",
         ),
         (
-            smuggle("x-tier", &other_tier, "run-00000.json"),
+            smuggle("x-tier", &other_tier, "run-00001.json", "run-00001.json"),
             "config.tier: \"standard\" vs \"quick\"",
         ),
         (
-            smuggle("x-index", &good, "run-00002.json"),
-            "its index is 0, its file name says 2",
+            smuggle("x-index", &good, "run-00000.json", "run-00001.json"),
+            "its index is 0, its file name says 1",
         ),
     ] {
         refused_merge(&[&good_out, &bad], &["does not belong in", want]);
