@@ -29,15 +29,8 @@ struct Args {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
     let rules: Rules = a.rules.parse()?;
-    if !(10..=1_000_000_000).contains(&a.steps) {
-        // L = 2200 runs a tenth of the steps: fewer than 10 would time nothing
-        return Err(granular_automata::Error::out_of_range(
-            "--steps",
-            a.steps,
-            "10..=1000000000 (L = 2200 runs a tenth of them)",
-        )
-        .into());
-    }
+    // L = 2200 runs a tenth of the steps: fewer than 10 would time nothing
+    granular_automata::cli::check_steps(a.steps, 10, "L = 2200 runs a tenth of them")?;
     let engines: Vec<Engine> = a
         .engines
         .split(',')

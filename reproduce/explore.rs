@@ -6,7 +6,7 @@
 //! `cargo run --release --bin explore -- --rules any-mover --p 0.1 --length 2200`
 
 use clap::Parser;
-use granular_automata::cli::{parse_runs, PipeRules};
+use granular_automata::cli::{check_populated, check_steps, parse_runs, PipeRules};
 use granular_automata::pipe::engine::Engine;
 use granular_automata::pipe::record::{bands, record};
 use granular_automata::pipe::stops::{count_stops, COUNTED};
@@ -65,17 +65,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..Params::default()
     };
     params.validate()?;
+    check_populated(&params)?;
     // band statistics: the second half of the samples, one every 80 steps;
     // --stops: the second half of the steps
     let min_steps = if a.stops { 2 } else { 160 };
-    if a.steps < min_steps {
-        return Err(granular_automata::Error::out_of_range(
-            "--steps",
-            a.steps,
-            &format!("[{min_steps}, inf) (statistics over the second half of the run)"),
-        )
-        .into());
-    }
+    check_steps(
+        a.steps,
+        min_steps,
+        "statistics over the second half of the run",
+    )?;
     if a.stops {
         if engine != Engine::Reference {
             return Err(granular_automata::Error::out_of_range(

@@ -6,6 +6,7 @@
 //! `cargo build --release --bins && target/release/report --tier quick`
 
 use clap::Parser;
+use granular_automata::cli::parse_threads;
 use granular_automata::report::{parse_extra, run, select, Options};
 use granular_automata::run::Tier;
 use std::collections::BTreeMap;
@@ -27,10 +28,10 @@ struct Args {
     #[arg(long, default_value = "results")]
     out: PathBuf,
     /// Base seed passed to every figure (default: each figure's own, 1).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     seed: Option<u64>,
-    /// Worker threads of every figure (default: all cores).
-    #[arg(long)]
+    /// Worker threads of every figure, 1..=1024 (default: all cores).
+    #[arg(long, value_parser = parse_threads, allow_negative_numbers = true)]
     threads: Option<usize>,
     /// Extra arguments of one figure, BIN=ARGS, e.g. 'waves-fig8=--runs 32'
     /// (repeatable; appended after the report's own).

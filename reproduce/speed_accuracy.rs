@@ -34,10 +34,10 @@ struct Args {
     out: PathBuf,
     /// Worker threads of every figure, 1..=1024 (default 1: CPU seconds then
     /// equal wall seconds on an idle machine).
-    #[arg(long, default_value = "1", value_parser = parse_threads)]
+    #[arg(long, default_value = "1", value_parser = parse_threads, allow_negative_numbers = true)]
     threads: usize,
     /// Base seed of every figure.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     seed: u64,
     /// Also read the summaries of earlier figure runs in this --out folder
     /// (repeatable), e.g. a paper tier run; only those with cpu_seconds.

@@ -6,7 +6,11 @@
 //! `cargo run --release --bin validate -- --candidate mutant:p+10% --level 1`
 
 use clap::Parser;
+use granular_automata::cli::parse_count;
+use granular_automata::pipe::Rules;
 use granular_automata::run::{progress, write_atomic, Output, Tier};
+use granular_automata::validate::candidate::Candidate;
+use granular_automata::validate::conformance::{MAX_TRIALS, MIN_TRIALS};
 use granular_automata::validate::{self, candidate_from, conformance, Level, Model, Size};
 use std::path::PathBuf;
 
@@ -30,16 +34,17 @@ struct Args {
     #[arg(long, default_value = "default")]
     rules: String,
     /// Base seed of the reference's runs (the candidate's are disjoint).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     seed: u64,
-    /// Level-1 trials per (probe, state) (default: by tier).
-    #[arg(long)]
+    /// Level-1 trials per (probe, state), 100..=1000000 (default: by tier;
+    /// below 100 the exact tests cannot reject, VALIDATION.md).
+    #[arg(long, value_parser = trials, allow_negative_numbers = true)]
     trials: Option<usize>,
     /// Level-2 runs per engine per scene (default: by tier), 3..=10000.
-    #[arg(long)]
+    #[arg(long, value_parser = runs, allow_negative_numbers = true)]
     runs: Option<usize>,
     /// Hopper level-2 runs per engine per scene (default: by tier), 3..=10000.
-    #[arg(long)]
+    #[arg(long, value_parser = hopper_runs, allow_negative_numbers = true)]
     hopper_runs: Option<usize>,
     /// Output folder; the report goes to OUT/validate/.
     #[arg(long, default_value = "results")]
@@ -51,53 +56,87 @@ struct Args {
     /// seed+N-1 (fresh seed sets for both engines each time), 1..=10000, and
     /// count the failures (false-alarm rate for `reference`, power for a
     /// mutant). Writes OUT/validate/repeat-CANDIDATE.csv and resumes from it.
-    #[arg(long)]
+    #[arg(long, value_parser = repeats, allow_negative_numbers = true)]
     repeat: Option<usize>,
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn trials(s: &str) -> granular_automata::Result<usize> {
+    parse_count("--trials", s, MIN_TRIALS, MAX_TRIALS)
+}
+
+fn runs(s: &str) -> granular_automata::Result<usize> {
+    parse_count("--runs", s, 3, 10_000)
+}
+
+fn hopper_runs(s: &str) -> granular_automata::Result<usize> {
+    parse_count("--hopper-runs", s, 3, 10_000)
+}
+
+fn repeats(s: &str) -> granular_automata::Result<usize> {
+    parse_count("--repeat", s, 1, 10_000)
+}
+
+/// Exit 2 with the message on a usage error (VALIDATION.md), 1 when the
+/// candidate fails or cannot be run.
+fn main() {
     let args = Args::parse();
-    let rules = args.rules.parse()?;
-    if let Some(path) = &args.export_table {
-        let base = granular_automata::pipe::Params::default();
-        let t = conformance::table(&base, rules)?;
-        let text = serde_json::to_string(&t)?;
-        write_atomic(path, text.as_bytes())?;
-        println!(
-            "wrote the exact level-1 table of `{rules}` to {}",
-            path.display()
-        );
-        return Ok(());
+    let setup = usage(&args).unwrap_or_else(|e| {
+        eprintln!("Error: {e:?}");
+        std::process::exit(2)
+    });
+    match run(&args, setup) {
+        Ok(true) => {}
+        Ok(false) => std::process::exit(1),
+        Err(e) => {
+            eprintln!("Error: {e:?}");
+            std::process::exit(1)
+        }
+    }
+}
+
+/// What the command line asks for, checked before anything runs.
+enum Setup {
+    /// `--export-table`: the rules to export.
+    Export(Rules),
+    /// A validation of this candidate with these sizes.
+    Validate(Box<dyn Candidate>, Size),
+}
+
+/// Check the command line: every error here is a usage error.
+fn usage(args: &Args) -> granular_automata::Result<Setup> {
+    let rules: Rules = args.rules.parse()?;
+    if args.export_table.is_some() {
+        return Ok(Setup::Export(rules));
     }
     let mut size = Size::for_tier(args.tier);
-    if let Some(t) = args.trials {
-        if !(1..=1_000_000).contains(&t) {
-            return Err(
-                granular_automata::Error::out_of_range("--trials", t, "[1, 1000000]").into(),
-            );
-        }
-        size.trials = t;
-    }
-    if let Some(r) = args.runs {
-        if !(3..=10_000).contains(&r) {
-            return Err(granular_automata::Error::out_of_range("--runs", r, "[3, 10000]").into());
-        }
-        size.runs = r;
-    }
-    if let Some(r) = args.hopper_runs {
-        if !(3..=10_000).contains(&r) {
-            return Err(
-                granular_automata::Error::out_of_range("--hopper-runs", r, "[3, 10000]").into(),
-            );
-        }
-        size.hopper_runs = r;
-    }
+    size.trials = args.trials.unwrap_or(size.trials);
+    size.runs = args.runs.unwrap_or(size.runs);
+    size.hopper_runs = args.hopper_runs.unwrap_or(size.hopper_runs);
     let cand = candidate_from(&args.candidate)?;
-    if let Some(n) = args.repeat {
-        if !(1..=10_000).contains(&n) {
-            return Err(granular_automata::Error::out_of_range("--repeat", n, "[1, 10000]").into());
+    validate::check_model(cand.as_ref(), args.model)?;
+    Ok(Setup::Validate(cand, size))
+}
+
+/// Run what `setup` asks for: whether the candidate passed.
+fn run(args: &Args, setup: Setup) -> Result<bool, Box<dyn std::error::Error>> {
+    let (cand, size) = match setup {
+        Setup::Export(rules) => {
+            let path = args.export_table.as_ref().expect("export asked for");
+            let base = granular_automata::pipe::Params::default();
+            let t = conformance::table(&base, rules)?;
+            let text = serde_json::to_string(&t)?;
+            write_atomic(path, text.as_bytes())?;
+            println!(
+                "wrote the exact level-1 table of `{rules}` to {}",
+                path.display()
+            );
+            return Ok(true);
         }
-        return repeat(&args, cand.as_ref(), size, n);
+        Setup::Validate(cand, size) => (cand, size),
+    };
+    if let Some(n) = args.repeat {
+        repeat(args, cand.as_ref(), size, n)?;
+        return Ok(true);
     }
     let pb = progress(
         validate::jobs(args.level, args.model, args.tier, size),
@@ -168,17 +207,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         report.wall_seconds,
         out.dir().display()
     );
-    if !report.pass {
-        std::process::exit(1);
-    }
-    Ok(())
+    Ok(report.pass)
 }
 
 /// `--repeat N`: N validations on fresh seed sets, one CSV row each (saved
 /// as it goes; a rerun skips the seeds already in the file).
 fn repeat(
     args: &Args,
-    cand: &dyn validate::candidate::Candidate,
+    cand: &dyn Candidate,
     size: Size,
     n: usize,
 ) -> Result<(), Box<dyn std::error::Error>> {

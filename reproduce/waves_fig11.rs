@@ -12,7 +12,7 @@
 
 use clap::Parser;
 use granular_automata::analysis::grading::Kind;
-use granular_automata::cli::PipeArgs;
+use granular_automata::cli::{check_steps, PipeArgs};
 use granular_automata::drivers::open_pipe::{
     corr_onset, corr_run, corr_speed, fig11_pipe, fig11_speed_check, flows_check, CorrRun,
     CorrSpeed, FIG11_CORR, FIG11_INJECT,
@@ -21,7 +21,6 @@ use granular_automata::ensemble::Outcome;
 use granular_automata::pipe::open::{open_run, peak_index, OpenRecord};
 use granular_automata::plot::{line_chart, plot_err, register_fonts, Line, SpaceTime, PALETTE};
 use granular_automata::run::{derive_seed, mean_sem, Check, Output, Summary};
-use granular_automata::Error;
 use plotters::prelude::*;
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -62,11 +61,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let rules = args.pipe.rules.parse()?;
     let engine = args.pipe.rules.engine(args.pipe.common.tier)?;
     let c = &args.pipe.common;
-    let steps = args.steps;
-    let min_steps = (SKIP + T_MAX + 2) as u64 * EVERY;
-    if steps < min_steps {
-        return Err(Error::out_of_range("--steps", steps, &format!("[{min_steps}, inf)")).into());
-    }
+    let steps = check_steps(
+        args.steps,
+        (SKIP + T_MAX + 2) as u64 * EVERY,
+        "the skipped samples and the correlation lags",
+    )?;
     let rates: &[f64] = if args.correlation_only {
         &[I_CORR]
     } else {

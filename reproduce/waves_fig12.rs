@@ -73,8 +73,6 @@ const I_C_INDEPENDENT: &str = "under the default reading narrow pipes clog later
 
 /// Fewest `--steps` of a trend run: 10 samples of N(t).
 const MIN_STEPS: u64 = 10 * EVERY;
-/// Most `--steps` of a trend run (a billion: hours per run).
-const MAX_STEPS: u64 = 1_000_000_000;
 
 /// One trend run: N(t), the clog step if any, bookkeeping failures.
 #[derive(Serialize, Deserialize)]
@@ -156,15 +154,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..base
     };
     let steps: u64 = args.steps.unwrap_or(c.tier.pick(20_000, 50_000, 100_000));
-    if !(MIN_STEPS..=MAX_STEPS).contains(&steps) {
-        // the trend test compares the last two quarters of N(t), sampled
-        // every EVERY steps: fewer than 10 samples leave nothing to compare
-        return Err(granular_automata::Error::new(
-            granular_automata::ErrorKind::InvalidParameter,
-            format!("--steps = {steps} is outside the allowed range {MIN_STEPS}..={MAX_STEPS}: the trend test of N(t) needs at least 10 samples, one every {EVERY} steps; choose --steps in {MIN_STEPS}..={MAX_STEPS}"),
-        )
-        .into());
-    }
+    // the trend test compares the last two quarters of N(t), sampled every
+    // EVERY steps: fewer than 10 samples leave nothing to compare
+    granular_automata::cli::check_steps(
+        steps,
+        MIN_STEPS,
+        &format!("the trend test of N(t) needs at least 10 samples, one every {EVERY} steps"),
+    )?;
     let runs = c.runs_or(4, 8, 32);
     let bisect_steps = args.bisections.unwrap_or(c.tier.pick(5, 6, 7));
     if !(1..=30).contains(&bisect_steps) {

@@ -15,7 +15,7 @@
 use clap::Parser;
 use granular_automata::analysis::grading::{Claim, Estimate, Kind};
 use granular_automata::analysis::relaxation::{fig3_checks, Saturation};
-use granular_automata::cli::WaveOptions;
+use granular_automata::cli::{check_steps, WaveOptions};
 use granular_automata::pipe::observables::random_start_contrast;
 use granular_automata::pipe::record::{
     relaxation, relaxation_schedule, sample_times, RELAXATION_EARLY,
@@ -44,17 +44,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (tier_steps, every) = relaxation_schedule(c.tier);
     let steps = args.steps.unwrap_or(tier_steps);
     let params = args.wave.pipe(256, 8)?;
-    if steps < EARLY + 4 * every {
-        return Err(granular_automata::Error::out_of_range(
-            "--steps",
-            steps,
-            &format!(
-                "[{}, inf) (the first {EARLY} steps and at least 4 samples of every {every} steps)",
-                EARLY + 4 * every
-            ),
-        )
-        .into());
-    }
+    check_steps(
+        steps,
+        EARLY + 4 * every,
+        &format!("the first {EARLY} steps and at least 4 samples of every {every} steps"),
+    )?;
     let key = json!({"analysis": 2, "params": params, "rules": rules.to_string(), "engine": engine, "steps": steps, "every": every});
     let ens = c.ensemble(fig.binary, &key, runs)?;
     let times = sample_times(steps, every, EARLY);

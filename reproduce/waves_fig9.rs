@@ -57,6 +57,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // a bad --rho fails before any run, naming the option
         p.params
             .validate()
+            .and_then(|()| granular_automata::cli::check_populated(&p.params))
             .map_err(|e| granular_automata::Error::new(e.kind, format!("--rho: {}", e.message)))?;
     }
     let Some(fig) = SweepFigure::run("waves-fig9", "PH95 Fig. 9", &args.pipe, points)? else {

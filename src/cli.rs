@@ -76,6 +76,48 @@ pub fn check_two_bins(length: usize, bin: usize) -> crate::Result<()> {
     Ok(())
 }
 
+/// Most `--steps` any binary accepts (a billion: hours per run at the
+/// papers' sizes); the same cap everywhere ([`check_steps`]).
+pub const MAX_STEPS: u64 = 1_000_000_000;
+
+/// Check `--steps` against `min..=`[`MAX_STEPS`]: `steps`, or an
+/// [`crate::ErrorKind::InvalidParameter`] error naming the value and the
+/// range; `why` says what the lower bound is for.
+pub fn check_steps(steps: u64, min: u64, why: &str) -> crate::Result<u64> {
+    if (min..=MAX_STEPS).contains(&steps) {
+        Ok(steps)
+    } else {
+        Err(crate::Error::out_of_range(
+            "--steps",
+            steps,
+            &format!("{min}..={MAX_STEPS} ({why})"),
+        ))
+    }
+}
+
+/// Reject an effectively empty periodic pipe: fewer than one particle per
+/// bin on average (rho W bin < 1, MODEL.md A8), where the bins hold mostly
+/// nothing and a contrast, structure factor or spectrum measures the
+/// emptiness, not the waves; also fewer than two bins ([`check_two_bins`]).
+/// An [`crate::ErrorKind::InvalidParameter`] error naming rho and the
+/// allowed range at this W and bin.
+pub fn check_populated(params: &Params) -> crate::Result<()> {
+    check_two_bins(params.length, params.bin)?;
+    let sites = params.width * params.bin;
+    if params.rho * (sites as f64) < 1.0 {
+        // (Debug: 1e-300, not three hundred digits)
+        return Err(crate::Error::out_of_range(
+            "rho",
+            format!("{:?}", params.rho),
+            &format!(
+                "[1/{sites}, {}) (at least one particle per bin of {sites} sites on average)",
+                crate::pipe::RHO_RANGE.1
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Options every figure binary takes (flatten into its own `clap::Parser`).
 #[derive(Debug, Clone, clap::Args)]
 pub struct Common {

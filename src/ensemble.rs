@@ -354,13 +354,20 @@ impl Ensemble {
                 )
             })?;
         if file.index != index || file.seed != self.seed(index) || file.key != self.key {
+            let mut what = Vec::new();
+            if file.index != index {
+                what.push(format!("index: {} vs {index}", file.index));
+            }
+            if file.seed != self.seed(index) {
+                what.push(format!("seed: {} vs {}", file.seed, self.seed(index)));
+            }
+            what.extend(json_differences(&file.key, &self.key));
             return Err(Error::new(
                 ErrorKind::Io,
                 format!(
-                    "{} belongs to another run (index {}, seed {}); delete it to recompute run {index}",
+                    "{} belongs to another run ({}; this file vs this configuration); delete it to recompute run {index}",
                     path.display(),
-                    file.index,
-                    file.seed
+                    what.join("; ")
                 ),
             ));
         }
@@ -520,6 +527,11 @@ pub struct MergeReport {
     pub identical: usize,
 }
 
+/// The configuration key in `config.json` at `path`, if it is there.
+fn read_key(path: &Path) -> Option<serde_json::Value> {
+    serde_json::from_slice(&fs::read(path).ok()?).ok()
+}
+
 fn read_dir_sorted(dir: &Path) -> Result<Vec<PathBuf>> {
     let mut v: Vec<PathBuf> = fs::read_dir(dir)
         .map_err(|e| Error::new(ErrorKind::Io, format!("cannot read {}: {e}", dir.display())))?
@@ -527,6 +539,97 @@ fn read_dir_sorted(dir: &Path) -> Result<Vec<PathBuf>> {
         .collect();
     v.sort();
     Ok(v)
+}
+
+/// Where two JSON values differ, as `path: here vs there` (at most five,
+/// e.g. `config.tier: "standard" vs "quick"`).
+fn json_differences(here: &serde_json::Value, there: &serde_json::Value) -> Vec<String> {
+    fn walk(path: &str, a: &serde_json::Value, b: &serde_json::Value, out: &mut Vec<String>) {
+        match (a, b) {
+            (serde_json::Value::Object(x), serde_json::Value::Object(y)) => {
+                let keys: std::collections::BTreeSet<&String> = x.keys().chain(y.keys()).collect();
+                for k in keys {
+                    let null = serde_json::Value::Null;
+                    let sub = if path.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{path}.{k}")
+                    };
+                    walk(
+                        &sub,
+                        x.get(k).unwrap_or(&null),
+                        y.get(k).unwrap_or(&null),
+                        out,
+                    );
+                }
+            }
+            _ if a != b => out.push(format!("{path}: {a} vs {b}")),
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    walk("", here, there, &mut out);
+    out.truncate(5);
+    out
+}
+
+/// What makes run file `file` (its verified `body`) foreign to the run
+/// folder `<binary>/runs/<hash>/` whose configuration key is `folder_key`
+/// (its `config.json`, if known): a key that does not hash to the folder's
+/// name or differs from `folder_key` (named field by field, e.g. the base
+/// seed or `config.tier`), another binary, an index other than its file
+/// name's, or a seed other than the one derived from the base seed and
+/// the index. `None` when it belongs there.
+fn foreign_run(
+    file: &Path,
+    body: &serde_json::Map<String, serde_json::Value>,
+    binary: &str,
+    hash: &str,
+    folder_key: Option<&serde_json::Value>,
+) -> Option<String> {
+    let null = serde_json::Value::Null;
+    let key = body.get("key").unwrap_or(&null);
+    let mut why = Vec::new();
+    let key_hash = format!("{:016x}", fnv1a64(key.to_string().as_bytes()));
+    match folder_key {
+        Some(k) if k != key => why.push(format!(
+            "its key differs from the folder's config.json ({}; this file vs the folder)",
+            json_differences(key, k).join("; ")
+        )),
+        _ if key_hash != hash => why.push(format!(
+            "its key hashes to {key_hash}, not to the folder name {hash}"
+        )),
+        _ => {}
+    }
+    if key["binary"].as_str() != Some(binary) {
+        why.push(format!(
+            "its key names the binary {}, not {binary}",
+            key["binary"]
+        ));
+    }
+    let name = file.file_stem().map(|s| s.to_string_lossy().into_owned());
+    let named = name
+        .as_deref()
+        .and_then(|n| n.strip_prefix("run-")?.parse::<u64>().ok());
+    let index = body.get("index").and_then(serde_json::Value::as_u64);
+    if index.is_none() || index != named {
+        why.push(format!(
+            "its index is {}, its file name says {}",
+            body.get("index").unwrap_or(&null),
+            named.map_or("none".to_string(), |i| i.to_string())
+        ));
+    }
+    let seed = body.get("seed").and_then(serde_json::Value::as_u64);
+    if let (Some(base), Some(i)) = (key["base_seed"].as_u64(), index) {
+        let want = derive_seed(base, i);
+        if seed != Some(want) {
+            why.push(format!(
+                "its seed is {}, run {i} of base seed {base} has seed {want}",
+                body.get("seed").unwrap_or(&null)
+            ));
+        }
+    }
+    (!why.is_empty()).then(|| why.join("; "))
 }
 
 /// Merge shard output folders: copy every `<binary>/runs/<hash>/` file of
@@ -542,16 +645,24 @@ pub fn merge(into: &Path, from: &[PathBuf]) -> Result<MergeReport> {
     let mut report = MergeReport::default();
     // 1. verify and plan: (destination, bytes) of every new file
     let mut plan: Vec<(PathBuf, Vec<u8>)> = Vec::new();
+    // the configuration key of every run folder whose config.json was read
+    let mut keys: std::collections::BTreeMap<PathBuf, serde_json::Value> = Default::default();
     for src in from {
         if !src.is_dir() {
+            let what = if src.exists() {
+                "is a file, not a folder"
+            } else {
+                "does not exist"
+            };
             return Err(Error::new(
                 ErrorKind::Io,
                 format!(
-                    "shard folder {} does not exist; pass the --out folders of the shards",
+                    "shard folder {} {what}; pass the --out folders of the shards",
                     src.display()
                 ),
             ));
         }
+        let mut run_folders = 0;
         for bin_dir in read_dir_sorted(src)? {
             let runs = bin_dir.join("runs");
             if !runs.is_dir() {
@@ -562,8 +673,15 @@ pub fn merge(into: &Path, from: &[PathBuf]) -> Result<MergeReport> {
                 if !cfg.is_dir() {
                     continue;
                 }
+                run_folders += 1;
                 let hash = cfg.file_name().expect("a folder name").to_owned();
                 let target = into.join(&binary).join("runs").join(&hash);
+                // the folder's key: its config.json in the target, in an
+                // earlier shard or here (checked below, it comes first)
+                let mut folder_key = keys
+                    .get(&target)
+                    .cloned()
+                    .or_else(|| read_key(&target.join("config.json")));
                 for file in read_dir_sorted(&cfg)? {
                     let name = file.file_name().expect("a file name").to_owned();
                     let name_s = name.to_string_lossy();
@@ -574,19 +692,35 @@ pub fn merge(into: &Path, from: &[PathBuf]) -> Result<MergeReport> {
                     let bytes = fs::read(&file).map_err(|e| io_error(&file, "read", e))?;
                     if is_run {
                         let text = String::from_utf8_lossy(&bytes);
-                        verify_run_file(&file, &text)?;
-                    } else if name_s == "config.json"
-                        && format!("{:016x}", fnv1a64(&bytes)) != hash.to_string_lossy()
-                    {
-                        return Err(Error::new(
-                            ErrorKind::Io,
-                            format!(
-                                "{} does not hash to its folder name {}; it was edited or moved: \
-                                 delete that folder from the shard and rerun the shard",
-                                file.display(),
-                                hash.to_string_lossy()
-                            ),
-                        ));
+                        let body = verify_run_file(&file, &text)?;
+                        let (b, h) = (binary.to_string_lossy(), hash.to_string_lossy());
+                        if let Some(why) = foreign_run(&file, &body, &b, &h, folder_key.as_ref()) {
+                            return Err(Error::new(
+                                ErrorKind::Io,
+                                format!(
+                                    "run file {} does not belong in {}: {why}; it was copied from another \
+                                     run (seed, tier or parameters): nothing was merged, remove it from the shard",
+                                    file.display(),
+                                    target.display()
+                                ),
+                            ));
+                        }
+                    } else if name_s == "config.json" {
+                        if format!("{:016x}", fnv1a64(&bytes)) != hash.to_string_lossy() {
+                            return Err(Error::new(
+                                ErrorKind::Io,
+                                format!(
+                                    "{} does not hash to its folder name {}; it was edited or moved: \
+                                     delete that folder from the shard and rerun the shard",
+                                    file.display(),
+                                    hash.to_string_lossy()
+                                ),
+                            ));
+                        }
+                        folder_key = serde_json::from_slice(&bytes).ok();
+                        if let Some(k) = &folder_key {
+                            keys.insert(target.clone(), k.clone());
+                        }
                     }
                     let dest = target.join(&name);
                     let planned = plan.iter().find(|(d, _)| *d == dest).map(|(_, b)| b);
@@ -617,6 +751,16 @@ pub fn merge(into: &Path, from: &[PathBuf]) -> Result<MergeReport> {
                     }
                 }
             }
+        }
+        if run_folders == 0 {
+            return Err(Error::new(
+                ErrorKind::Io,
+                format!(
+                    "shard folder {} holds no run folder (<binary>/runs/<hash>/): nothing to merge; \
+                     pass the --out folders of the shards",
+                    src.display()
+                ),
+            ));
         }
     }
     if plan.is_empty() {

@@ -96,7 +96,8 @@ pub fn all_binaries() -> Vec<&'static str> {
 }
 
 /// The figures a report runs by default: every `[[bin]]` except the tools
-/// (bench, explore, merge, report) and the on-request pipe-matrix.
+/// (bench, explore, merge, report, speed-accuracy, validate and its
+/// example) and the on-request pipe-matrix.
 pub fn default_figures() -> Vec<&'static str> {
     all_binaries()
         .into_iter()
@@ -1158,7 +1159,15 @@ mod tests {
         let s = select(Some("hopper-fig3, fig1")).unwrap();
         assert_eq!(s, vec!["fig1", "hopper-fig3"], "Cargo.toml order");
         assert_eq!(select(Some("pipe-matrix")).unwrap(), vec!["pipe-matrix"]);
-        for bad in ["fig99", "bench", "report", "", ","] {
+        for bad in [
+            "fig99",
+            "bench",
+            "report",
+            "validate",
+            "validate-example",
+            "",
+            ",",
+        ] {
             let e = select(Some(bad)).unwrap_err();
             assert_eq!(e.kind, ErrorKind::InvalidParameter, "{bad}");
             assert!(e.message.contains("fig1"), "lists the allowed names");

@@ -517,19 +517,31 @@ impl Figure {
 pub const NO_VALUE: &str =
     "no value: the measurement is not finite (NaN or infinite), e.g. a mean over no qualifying run";
 
+/// The reason given for the standard error `name_err` of a metric `name`
+/// that has a value: one value has no spread ([`mean_sem`]).
+pub const NO_ERROR: &str =
+    "no value: a standard error needs at least two values (e.g. --runs 1 gives one run)";
+
 impl Summary {
     /// This summary with every non-finite metric moved to `missing_metrics`,
-    /// with the reason stated for it (or for `name` of `name_err`) in
-    /// `missing_metrics`, else [`NO_VALUE`]; reasons of metrics that do have
-    /// a value are dropped.
+    /// with the reason stated for it in `missing_metrics`; for `name_err`
+    /// otherwise [`NO_ERROR`] when `name` has a value, else the reason of
+    /// `name`; else [`NO_VALUE`]. Reasons of metrics that do have a value
+    /// are dropped.
     pub fn without_missing_metrics(&self) -> Summary {
         let mut s = self.clone();
         let reasons = std::mem::take(&mut s.missing_metrics);
+        let metrics = s.metrics.clone();
         let reason = |k: &str| {
-            reasons
-                .get(k)
-                .or_else(|| k.strip_suffix("_err").and_then(|b| reasons.get(b)))
-                .map_or(NO_VALUE.to_string(), |r| format!("no value: {r}"))
+            let base = k.strip_suffix("_err");
+            if let Some(r) = reasons.get(k) {
+                format!("no value: {r}")
+            } else if base.is_some_and(|b| metrics.get(b).is_some_and(|v| v.is_finite())) {
+                NO_ERROR.to_string()
+            } else {
+                base.and_then(|b| reasons.get(b))
+                    .map_or(NO_VALUE.to_string(), |r| format!("no value: {r}"))
+            }
         };
         s.metrics.retain(|k, v| {
             if !v.is_finite() {
@@ -704,22 +716,33 @@ pub fn cpu_seconds() -> Option<f64> {
 
 /// Write a file via a temporary name and a rename, so a crash never leaves a
 /// half-written file behind.
+/// Errors name `path` (e.g. a folder where the file should be), and leave
+/// no temporary file behind.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let tmp = path.with_extension("tmp~");
-    let mut f = fs::File::create(&tmp).map_err(|e| {
+    let cannot = |e: std::io::Error| {
+        let _ = fs::remove_file(&tmp);
+        let what = if path.is_dir() {
+            format!("{e}: a folder is in the way; remove or rename it")
+        } else {
+            e.to_string()
+        };
         Error::new(
             ErrorKind::Io,
-            format!("cannot write {}: {e}", tmp.display()),
+            format!("cannot write {}: {what}", path.display()),
         )
-    })?;
-    f.write_all(bytes)?;
+    };
+    let mut f = fs::File::create(&tmp).map_err(cannot)?;
+    f.write_all(bytes).map_err(cannot)?;
     f.sync_all().ok();
     drop(f);
-    fs::rename(&tmp, path)?;
+    fs::rename(&tmp, path).map_err(cannot)?;
     Ok(())
 }
 
-/// Mean and standard error of the mean (0 for fewer than two values).
+/// Mean and standard error of the mean; the error of a single value is
+/// NaN (no spread measured, not 0: a summary lists it under
+/// `missing_metrics`, [`NO_ERROR`]), both are NaN for no values.
 pub fn mean_sem(xs: &[f64]) -> (f64, f64) {
     let n = xs.len();
     if n == 0 {
@@ -727,7 +750,7 @@ pub fn mean_sem(xs: &[f64]) -> (f64, f64) {
     }
     let m = xs.iter().sum::<f64>() / n as f64;
     if n < 2 {
-        return (m, 0.0);
+        return (m, f64::NAN);
     }
     let var = xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n as f64 - 1.0);
     (m, (var / n as f64).sqrt())
@@ -862,22 +885,27 @@ mod tests {
         let fig = Figure::start("t", "test", Tier::Quick, "r".into())
             .explain_missing("v_waves", "no run forms bands");
         let out = fig.output(&dir).unwrap();
+        let (c, c_err) = mean_sem(&[2.0]);
         let metrics = metrics_of([
             ("a", 1.0),
             ("v_waves", f64::NAN),
             ("v_waves_err", f64::NAN),
             ("b", f64::INFINITY),
+            ("c", c),
+            ("c_err", c_err),
         ]);
         fig.finish(&out, vec![1], serde_json::json!({}), 0.0, metrics, vec![])
             .unwrap();
         let text = std::fs::read_to_string(out.path("summary.json")).unwrap();
         assert!(!text.contains("null"), "{text}");
         let s: serde_json::Value = serde_json::from_str(&text).unwrap();
-        assert_eq!(s["metrics"], serde_json::json!({"a": 1.0}));
+        assert_eq!(s["metrics"], serde_json::json!({"a": 1.0, "c": 2.0}));
         let missing = &s["missing_metrics"];
         assert_eq!(missing["v_waves"], "no value: no run forms bands");
         assert_eq!(missing["v_waves_err"], "no value: no run forms bands");
         assert_eq!(missing["b"], NO_VALUE);
+        // one value has a mean but no standard error (not 0)
+        assert_eq!(missing["c_err"], NO_ERROR);
         out.write_csv("x.csv", &["a", "b"], &[vec![1.5, f64::NAN]])
             .unwrap();
         let csv = std::fs::read_to_string(out.path("x.csv")).unwrap();

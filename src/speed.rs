@@ -180,10 +180,24 @@ pub fn select_keys(list: Option<&str>) -> Result<Vec<Key>> {
         .collect()
 }
 
-/// Read `dir/<figure>/summary.json`, if it is there.
-fn read_summary(dir: &Path, figure: &str) -> Option<Value> {
-    let text = std::fs::read_to_string(dir.join(figure).join("summary.json")).ok()?;
-    serde_json::from_str(&text).ok()
+/// Read `dir/<figure>/summary.json`: `None` if it is not there, an
+/// [`ErrorKind::Io`] error naming it if it cannot be read or is not JSON.
+fn read_summary(dir: &Path, figure: &str) -> Result<Option<Value>> {
+    let path = dir.join(figure).join("summary.json");
+    let bad = |why: String| {
+        Error::new(
+            ErrorKind::Io,
+            format!("{} {why}; delete it or rerun that figure", path.display()),
+        )
+    };
+    let text = match std::fs::read_to_string(&path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(bad(format!("cannot be read ({e})"))),
+    };
+    serde_json::from_str(&text)
+        .map(Some)
+        .map_err(|e| bad(format!("is not JSON ({e})")))
 }
 
 /// The [`Point`] of `key` in summary `s`, if `s` has CPU time and the
@@ -239,6 +253,25 @@ fn statistic(key: &Key, s: &Value) -> Option<(f64, f64, usize)> {
 /// Run (or read) every configuration of `plan` and return its points, in
 /// the order figure, tier, engine; then those found in `plan.from`.
 pub fn measure(plan: &Plan) -> Result<Vec<Point>> {
+    // the --from summaries are read before anything runs: a folder that is
+    // not there or a damaged summary is named at once
+    let mut earlier = Vec::new();
+    for dir in &plan.from {
+        if !dir.is_dir() {
+            return Err(Error::new(
+                ErrorKind::Io,
+                format!(
+                    "--from {}: no such folder; give the --out folder of earlier figure runs",
+                    dir.display()
+                ),
+            ));
+        }
+        for key in &plan.keys {
+            if let Some(p) = read_summary(dir, key.figure)?.and_then(|s| point(key, &s)) {
+                earlier.push(p);
+            }
+        }
+    }
     let mut points = Vec::new();
     for key in &plan.keys {
         for &tier in &plan.tiers {
@@ -259,7 +292,8 @@ pub fn measure(plan: &Plan) -> Result<Vec<Point>> {
                 } else {
                     "reference".to_string()
                 };
-                let done = read_summary(&dir, key.figure).filter(|s| {
+                // a damaged summary of our own is run again
+                let done = read_summary(&dir, key.figure).ok().flatten().filter(|s| {
                     s["cpu_seconds"].is_number()
                         && s["engine"].as_str().unwrap_or("reference") == label
                 });
@@ -302,13 +336,7 @@ pub fn measure(plan: &Plan) -> Result<Vec<Point>> {
             }
         }
     }
-    for dir in &plan.from {
-        for key in &plan.keys {
-            if let Some(p) = read_summary(dir, key.figure).and_then(|s| point(key, &s)) {
-                points.push(p);
-            }
-        }
-    }
+    points.extend(earlier);
     Ok(points)
 }
 
@@ -349,7 +377,7 @@ fn run_one(plan: &Plan, key: &Key, tier: Tier, engine: &str, dir: &Path) -> Resu
             ),
         ));
     }
-    read_summary(dir, key.figure).ok_or_else(|| {
+    read_summary(dir, key.figure)?.ok_or_else(|| {
         Error::new(
             ErrorKind::Io,
             format!(

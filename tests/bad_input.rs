@@ -7,11 +7,14 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+/// u64::MAX, the largest number a count option can be given.
+const HUGE: &str = "18446744073709551615";
+
 /// Run `exe` with `args` (figure binaries: output into a scratch folder,
 /// `bench` and `explore` write nothing); assert it fails
 /// cleanly (exit code 1 or clap's 2, no panic or abort) and that stderr
-/// contains every one of `want`.
-fn refused(exe: &str, args: &[&str], want: &[&str]) {
+/// contains every one of `want`. Returns the exit code.
+fn refused(exe: &str, args: &[&str], want: &[&str]) -> i32 {
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bad-input");
     let mut cmd = Command::new(exe);
     cmd.args(args);
@@ -29,11 +32,11 @@ fn refused(exe: &str, args: &[&str], want: &[&str]) {
     for w in want {
         assert!(err.contains(w), "{exe} {args:?}: '{w}' not in: {err}");
     }
+    code.expect("an exit code")
 }
 
 #[test]
 fn runs_and_threads_out_of_range_are_refused() {
-    let huge = "18446744073709551615";
     for exe in [
         env!("CARGO_BIN_EXE_fig2"),
         env!("CARGO_BIN_EXE_fig1"),
@@ -43,7 +46,7 @@ fn runs_and_threads_out_of_range_are_refused() {
         env!("CARGO_BIN_EXE_waves-fig5"),
         env!("CARGO_BIN_EXE_waves-fig8"),
     ] {
-        refused(exe, &["--runs", huge], &["--runs", "1..=100000"]);
+        refused(exe, &["--runs", HUGE], &["--runs", "1..=100000"]);
         refused(exe, &["--runs", "0"], &["--runs", "1..=100000"]);
         refused(exe, &["--threads", "0"], &["--threads", "1..=1024"]);
     }
@@ -57,11 +60,11 @@ fn explore_refuses_bad_runs_and_densities_and_reads_negative_numbers() {
     refused(exe, &["--p", "-0.1"], &["p = -0.1", "[0, 1]"]);
     refused(exe, &["--rho", "0"], &["rho = 0", "(0, 6)"]);
     refused(exe, &["--rho", "6"], &["rho = 6", "(0, 6)"]);
-    refused(exe, &["--steps", "0"], &["--steps = 0", "[160, inf)"]);
+    refused(exe, &["--steps", "0"], &["--steps = 0", "160..=1000000000"]);
     refused(
         exe,
         &["--stops", "--steps", "1"],
-        &["--steps = 1", "[2, inf)"],
+        &["--steps = 1", "2..=1000000000"],
     );
     refused(
         exe,
@@ -126,5 +129,317 @@ fn merge_errors_name_the_path() {
         env!("CARGO_BIN_EXE_merge"),
         &[missing.to_str().unwrap()],
         &[missing.to_str().unwrap()],
+    );
+}
+
+/// A scratch folder of this test file, emptied.
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Issue 34: every usage error of `validate` exits 2 (VALIDATION.md), a
+/// failing candidate 1; `--trials` has the lower bound at which the level-1
+/// test can decide (`conformance::MIN_TRIALS`), negative numbers name
+/// their option.
+#[test]
+fn validate_usage_errors_exit_2_and_name_the_option() {
+    let exe = env!("CARGO_BIN_EXE_validate");
+    let cmd = format!("cmd:{}", env!("CARGO_BIN_EXE_validate-example"));
+    for (args, want) in [
+        (&["--trials", "1"][..], &["--trials", "100..=1000000"][..]),
+        (&["--trials", "-1"], &["--trials = -1", "100..=1000000"]),
+        (&["--runs", "-1"], &["--runs = -1", "3..=10000"]),
+        (&["--runs", "2"], &["--runs = 2", "3..=10000"]),
+        (&["--hopper-runs", "-3"], &["--hopper-runs = -3"]),
+        (&["--repeat", "0"], &["--repeat = 0", "1..=10000"]),
+        (&["--seed", "-1"], &["--seed"]),
+        (&["--candidate", "mutant:nope"], &["biased-stream"]),
+        (&["--rules", "nope"], &["nope"]),
+        (
+            &["--candidate", cmd.as_str(), "--model", "hopper"],
+            &["provides no hopper engine"],
+        ),
+    ] {
+        let code = refused(exe, args, want);
+        assert_eq!(code, 2, "validate {args:?}: a usage error exits 2");
+    }
+}
+
+/// Issue 34: an external candidate whose samples have the wrong shape is
+/// named a contract error with its first bad line (never an index panic, nor
+/// graded as differing observables); a program that prints garbage is
+/// quoted.
+#[test]
+fn validate_names_the_first_sample_of_the_wrong_shape() {
+    let exe = env!("CARGO_BIN_EXE_validate");
+    let example = env!("CARGO_BIN_EXE_validate-example");
+    let out = scratch("bad-sample");
+    let edited = |sed: &str| format!("cmd:f() {{ {example} \"$@\" | sed '{sed}'; }}; f");
+    for (cand, want) in [
+        (
+            edited(r#"s/"bins":\[[^,]*,/"bins":[/"#),
+            &["line 1 has 43 bins", "L / bin = 440 / 10 = 44"][..],
+        ),
+        (
+            edited(r#"s/"bins":\[/"bins":[1.0,1.0,1.0,1.0,1.0,/"#),
+            &["line 1 has 49 bins"],
+        ),
+        (
+            edited(r#"s/"bins":\[[^]]*\]/"bins":[]/"#),
+            &["line 1 has 0 bins"],
+        ),
+        (
+            edited(r#"s/"channels":\[[0-9]*,/"channels":[/"#),
+            &["line 1 has 6 channel counts", "asks for 7"],
+        ),
+        (
+            edited(r#"s/"flux":\[/"flux":[0,/"#),
+            &["line 1 has 4 flux counts", "asks for 3"],
+        ),
+        (
+            edited(r#"2s/"t":[0-9]*/"t":7/"#),
+            &["line 2 has t = 7", "t = 20"],
+        ),
+        (
+            "cmd:echo garbage".to_string(),
+            &["garbage run --plan -"][..],
+        ),
+    ] {
+        let args = ["--candidate", &cand, "--level", "2", "--runs", "3"];
+        let mut cmd = Command::new(exe);
+        let o = cmd.args(args).arg("--out").arg(&out).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{cand}: {err}");
+        assert!(!err.contains("panicked"), "{cand}: {err}");
+        assert!(err.contains("see VALIDATION.md for the contract"), "{err}");
+        for w in want {
+            assert!(err.contains(w), "{cand}: '{w}' not in: {err}");
+        }
+    }
+}
+
+/// Issue 34: `--cases` of the hopper figures rejects a case given twice.
+#[test]
+fn hopper_cases_are_given_once() {
+    for exe in [
+        env!("CARGO_BIN_EXE_hopper-fig2"),
+        env!("CARGO_BIN_EXE_hopper-fig3"),
+    ] {
+        refused(
+            exe,
+            &["--cases", "beta0,beta0"],
+            &["--cases", "beta0", "more than once"],
+        );
+    }
+}
+
+/// Issue 34: an effectively empty pipe (fewer than one particle per bin on
+/// average) or a pipe of one bin is refused, not measured as C = 0.
+#[test]
+fn effectively_empty_pipes_are_refused() {
+    refused(
+        env!("CARGO_BIN_EXE_waves-fig9"),
+        &["--rho", "1e-300"],
+        &["--rho", "rho = 1e-300", "[1/110, 6)"],
+    );
+    let explore = env!("CARGO_BIN_EXE_explore");
+    refused(
+        explore,
+        &["--rho", "1e-300"],
+        &["rho = 1e-300", "[1/110, 6)"],
+    );
+    refused(
+        explore,
+        &["--rho", "0.05", "--width", "1"],
+        &["rho = 0.05", "[1/10, 6)"],
+    );
+    refused(explore, &["--length", "10"], &["L = 10", "[20, inf)"]);
+}
+
+/// Issue 34: `--steps` has the same cap in every binary, and sizes are
+/// multiplied without wrapping around.
+#[test]
+fn steps_share_one_cap_and_sizes_do_not_wrap() {
+    for exe in [
+        env!("CARGO_BIN_EXE_waves-fig3"),
+        env!("CARGO_BIN_EXE_waves-fig11"),
+        env!("CARGO_BIN_EXE_waves-fig12"),
+        env!("CARGO_BIN_EXE_explore"),
+        env!("CARGO_BIN_EXE_bench"),
+    ] {
+        for steps in [HUGE, "1000000001"] {
+            refused(exe, &["--steps", steps], &["--steps", "..=1000000000"]);
+        }
+    }
+    let e = refused(
+        env!("CARGO_BIN_EXE_waves-fig12"),
+        &["--sizes", &format!("220x{HUGE}")],
+        &[
+            "W * L",
+            "18446744073709551615 * 220 = 4058283696216101355300",
+        ],
+    );
+    assert_eq!(e, 1);
+}
+
+/// Issue 34: `report` and `speed-accuracy` range-check their numbers and
+/// name the option of a negative one; `report --only` offers figures only.
+#[test]
+fn report_and_speed_accuracy_check_their_numbers() {
+    let report = env!("CARGO_BIN_EXE_report");
+    for t in ["0", "-1", "1025"] {
+        refused(report, &["--threads", t], &["--threads", "1..=1024"]);
+    }
+    refused(report, &["--seed", "-1"], &["--seed"]);
+    for tool in ["validate", "validate-example"] {
+        refused(report, &["--only", tool], &["unknown figure", tool]);
+    }
+    let speed = env!("CARGO_BIN_EXE_speed-accuracy");
+    refused(speed, &["--seed", "-1"], &["--seed"]);
+    refused(speed, &["--threads", "-1"], &["--threads", "1..=1024"]);
+}
+
+/// Issue 34: `speed-accuracy --from` names a missing folder and a damaged
+/// summary.json before it runs anything.
+#[test]
+fn speed_accuracy_from_names_missing_and_damaged_summaries() {
+    let speed = env!("CARGO_BIN_EXE_speed-accuracy");
+    let dir = scratch("speed-from");
+    let missing = dir.join("no-such-folder");
+    let quick = [
+        "--figures",
+        "fig1",
+        "--tiers",
+        "quick",
+        "--engines",
+        "reference",
+    ];
+    let args = |from: &PathBuf| {
+        let mut a: Vec<String> = quick.iter().map(|s| s.to_string()).collect();
+        a.extend(["--from".to_string(), from.display().to_string()]);
+        a
+    };
+    let a = args(&missing);
+    let a: Vec<&str> = a.iter().map(String::as_str).collect();
+    refused(
+        speed,
+        &a,
+        &["--from", missing.to_str().unwrap(), "no such folder"],
+    );
+    let earlier = dir.join("earlier");
+    std::fs::create_dir_all(earlier.join("fig1")).unwrap();
+    let summary = earlier.join("fig1").join("summary.json");
+    std::fs::write(&summary, "{\"tier\": ").unwrap();
+    let a = args(&earlier);
+    let a: Vec<&str> = a.iter().map(String::as_str).collect();
+    refused(speed, &a, &[summary.to_str().unwrap(), "is not JSON"]);
+}
+
+/// Issue 34: an --out whose summary.json is a folder is named, and no
+/// temporary file is left behind.
+#[test]
+fn a_folder_in_the_way_of_summary_json_is_named() {
+    let out = scratch("summary-folder");
+    let fig = out.join("waves-fig3");
+    std::fs::create_dir_all(fig.join("summary.json")).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_waves-fig3"))
+        .args(["--runs", "1", "--steps", "480", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    let path = fig.join("summary.json");
+    assert!(err.contains(path.to_str().unwrap()), "{err}");
+    let left: Vec<_> = std::fs::read_dir(&fig)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with("tmp~"))
+        .collect();
+    assert!(left.is_empty(), "temporary files left: {left:?}");
+}
+
+/// Issue 34: `merge` checks every run file's key (seed, tier, parameters),
+/// index and seed against the folder it goes into, names what differs and
+/// copies nothing; an empty shard folder and a shard that is a file are
+/// named as such.
+#[test]
+fn merge_rejects_foreign_runs_and_empty_or_file_shards() {
+    let dir = scratch("merge-foreign");
+    let fig3 = env!("CARGO_BIN_EXE_waves-fig3");
+    let shard = |name: &str, shard: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let status = Command::new(fig3)
+            .args(["--runs", "2", "--shard", shard])
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap()
+            .status;
+        assert!(status.success(), "{name}");
+        let runs = out.join("waves-fig3").join("runs");
+        let hash = std::fs::read_dir(&runs).unwrap().next().unwrap().unwrap();
+        hash.path()
+    };
+    // shard 0 holds run 0; the others' run 1 would complete it
+    let good = shard("good", "0/2", &["--steps", "480"]);
+    let other_seed = shard("seed2", "1/2", &["--steps", "480", "--seed", "2"]);
+    let other_tier = shard("standard", "1/2", &["--steps", "600", "--tier", "standard"]);
+    // run file `file` of `from` copied as `as_file` into the good run folder
+    // of another shard
+    let hash = good.file_name().unwrap();
+    let smuggle = |name: &str, from: &PathBuf, file: &str, as_file: &str| {
+        let folder = dir.join(name).join("waves-fig3").join("runs").join(hash);
+        std::fs::create_dir_all(&folder).unwrap();
+        std::fs::copy(from.join(file), folder.join(as_file)).unwrap();
+        dir.join(name)
+    };
+    // merge into `target`: exit 1 with every one of `want` in the message
+    let target = dir.join("merged");
+    let refused_merge = |shards: &[&PathBuf], want: &[&str]| {
+        let o = Command::new(env!("CARGO_BIN_EXE_merge"))
+            .arg("--out")
+            .arg(&target)
+            .args(shards)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        for w in want {
+            assert!(err.contains(w), "'{w}' not in: {err}");
+        }
+        assert!(!target.exists(), "nothing is copied: {err}");
+    };
+    let good_out = dir.join("good");
+    for (bad, want) in [
+        (
+            smuggle("x-seed", &other_seed, "run-00001.json", "run-00001.json"),
+            "base_seed: 2 vs 1",
+        ),
+        (
+            smuggle("x-tier", &other_tier, "run-00001.json", "run-00001.json"),
+            "config.tier: \"standard\" vs \"quick\"",
+        ),
+        (
+            smuggle("x-index", &good, "run-00000.json", "run-00001.json"),
+            "its index is 0, its file name says 1",
+        ),
+    ] {
+        refused_merge(&[&good_out, &bad], &["does not belong in", want]);
+    }
+    let empty = scratch("merge-foreign-empty");
+    refused_merge(
+        &[&good_out, &empty],
+        &[empty.to_str().unwrap(), "holds no run folder"],
+    );
+    let file = dir.join("a-file");
+    std::fs::write(&file, "").unwrap();
+    refused_merge(
+        &[&file],
+        &[file.to_str().unwrap(), "is a file, not a folder"],
     );
 }

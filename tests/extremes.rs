@@ -706,3 +706,29 @@ mod golden {
         snapshot("hopper_readings", hopper_text(beta0) + &hopper_text(same));
     }
 }
+
+/// `--runs` at its lower extreme (issue 34): one run has means but no
+/// standard errors; each `_err` is listed under `missing_metrics` with the
+/// reason, never written as 0.0.
+#[test]
+fn one_run_has_no_standard_errors() {
+    let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("one-run");
+    let _ = std::fs::remove_dir_all(&out);
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_waves-fig3"))
+        .args(["--runs", "1", "--steps", "480", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap()
+        .status;
+    assert!(status.success());
+    let text = std::fs::read_to_string(out.join("waves-fig3/summary.json")).unwrap();
+    let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let metrics = s["metrics"].as_object().unwrap();
+    let errs: Vec<&String> = metrics.keys().filter(|k| k.ends_with("_err")).collect();
+    assert!(errs.is_empty(), "standard errors of one run: {errs:?}");
+    assert!(metrics.contains_key("contrast_saturation"));
+    let why = s["missing_metrics"]["contrast_saturation_err"]
+        .as_str()
+        .unwrap();
+    assert!(why.contains("at least two values"), "{why}");
+}

@@ -94,7 +94,8 @@ pub fn half_time(runs: &[Vec<f64>], times: &[f64]) -> (f64, f64) {
     let full = stat(&all);
     let n = runs.len();
     if n < 2 {
-        return (full, 0.0);
+        // one run: no spread (listed as missing, not 0)
+        return (full, f64::NAN);
     }
     let loo: Vec<f64> = (0..n)
         .map(|k| {

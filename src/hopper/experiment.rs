@@ -456,12 +456,14 @@ impl Case {
         Case::BETA1_SAME_SEQUENTIAL,
     ];
 
-    /// The cases named in the comma-separated list `keys`; a typed error
-    /// names an unknown key and the known ones.
+    /// The cases named in the comma-separated list `keys` (`--cases`); a
+    /// typed error names an unknown key and the known ones, or a key given
+    /// twice.
     pub fn parse_list(keys: &str) -> Result<Vec<Case>> {
-        keys.split(',')
+        let keys: Vec<&str> = keys.split(',').map(str::trim).collect();
+        crate::cli::reject_duplicates("--cases", &keys)?;
+        keys.into_iter()
             .map(|k| {
-                let k = k.trim();
                 Case::ALL
                     .iter()
                     .find(|c| c.key == k)

@@ -147,12 +147,19 @@ impl Params {
         if self
             .width
             .checked_add(2)
-            .and_then(|w| w.checked_mul(self.length + 2))
+            .zip(self.length.checked_add(2))
+            .and_then(|(w, l)| w.checked_mul(l))
             .is_none_or(|n| n > u32::MAX as usize)
         {
+            // the exact product (no wrap-around) in the message
             return Err(Error::out_of_range(
                 "W * L",
-                self.width * self.length,
+                format!(
+                    "{} * {} = {}",
+                    self.width,
+                    self.length,
+                    self.width as u128 * self.length as u128
+                ),
                 "[1, 4e9]",
             ));
         }

@@ -182,33 +182,51 @@ impl Candidate for External {
             .stderr(Stdio::piped())
             .spawn()
             .map_err(|e| external_error(&self.command, &format!("cannot start: {e}")))?;
-        child
+        // a program that exits without reading the plan closes the pipe
+        // (EPIPE): what it printed says more than "Broken pipe"
+        let sent = child
             .stdin
             .take()
             .expect("stdin is piped")
-            .write_all(json.as_bytes())
-            .map_err(|e| external_error(&self.command, &format!("cannot send the plan: {e}")))?;
+            .write_all(json.as_bytes());
         let out = child
             .wait_with_output()
             .map_err(|e| external_error(&self.command, &format!("did not finish: {e}")))?;
+        let text = String::from_utf8_lossy(&out.stdout);
+        let printed = || match text.trim() {
+            "" => "nothing on stdout".to_string(),
+            t => format!("on stdout: {}", excerpt(t)),
+        };
         if !out.status.success() {
             let err = String::from_utf8_lossy(&out.stderr);
             return Err(external_error(
                 &self.command,
-                &format!("exited with {}: {}", out.status, err.trim()),
+                &format!(
+                    "exited with {}: {}; it printed {}",
+                    out.status,
+                    err.trim(),
+                    printed()
+                ),
             ));
         }
-        let text = String::from_utf8_lossy(&out.stdout);
+        if let Err(e) = sent {
+            return Err(external_error(
+                &self.command,
+                &format!(
+                    "did not read the plan on stdin ({e}) and printed {}",
+                    printed()
+                ),
+            ));
+        }
         let samples: Vec<Sample> = text
             .lines()
-            .filter(|l| !l.trim().is_empty())
             .enumerate()
-            .map(|(i, l)| {
-                serde_json::from_str(l).map_err(|e| {
-                    external_error(
-                        &self.command,
-                        &format!("line {} is not a sample: {e}", i + 1),
-                    )
+            .filter(|(_, l)| !l.trim().is_empty())
+            .enumerate()
+            .map(|(i, (n, l))| {
+                read_sample(plan, i, l).map_err(|why| {
+                    let what = format!("line {} {why}; the line reads: {}", n + 1, excerpt(l));
+                    external_error(&self.command, &what)
                 })
             })
             .collect::<Result<_>>()?;
@@ -224,6 +242,86 @@ impl Candidate for External {
         }
         Ok(samples)
     }
+}
+
+/// At most the first 200 characters of `text` (what a program printed,
+/// quoted in an error).
+fn excerpt(text: &str) -> String {
+    let mut chars = text.chars();
+    let head: String = chars.by_ref().take(200).collect();
+    if chars.next().is_some() {
+        format!("{head:?}...")
+    } else {
+        format!("{head:?}")
+    }
+}
+
+/// A sample as printed, before its shape is checked.
+#[derive(Deserialize)]
+struct Printed {
+    t: u64,
+    bins: Vec<f64>,
+    channels: Vec<u64>,
+    flux: Vec<u64>,
+    #[serde(default)]
+    sites: Option<Vec<(usize, usize, u8)>>,
+}
+
+/// Sample `i` (0-based) of a run of `plan` from its NDJSON `line`, its
+/// shape checked (VALIDATION.md, "Sample"): t = (i + 1) every, L / bin
+/// bins (finite, non-negative), 7 channels, 3 flux counts, and the sites
+/// (inside the pipe, 7-bit states) when the plan asks for them; otherwise
+/// what is wrong.
+fn read_sample(plan: &RunPlan, i: usize, line: &str) -> std::result::Result<Sample, String> {
+    let s: Printed = serde_json::from_str(line).map_err(|e| format!("is not a sample: {e}"))?;
+    let p = &plan.params;
+    let t = (i as u64 + 1) * plan.every;
+    if s.t != t {
+        return Err(format!("has t = {}, the plan asks for t = {t}", s.t));
+    }
+    if s.bins.len() != p.bins() {
+        return Err(format!(
+            "has {} bins, the plan asks for L / bin = {} / {} = {}",
+            s.bins.len(),
+            p.length,
+            p.bin,
+            p.bins()
+        ));
+    }
+    if let Some((k, v)) = s.bins.iter().enumerate().find(|(_, v)| **v < 0.0) {
+        return Err(format!("has bin {k} = {v}, not a density >= 0"));
+    }
+    let channels: [u64; 7] = s.channels.try_into().map_err(|c: Vec<u64>| {
+        format!("has {} channel counts, the contract asks for 7", c.len())
+    })?;
+    let flux: [u64; 3] = s.flux.try_into().map_err(|f: Vec<u64>| {
+        format!(
+            "has {} flux counts, the contract asks for 3 (injected, out at the bottom, out at the top)",
+            f.len()
+        )
+    })?;
+    let sites = if plan.sites {
+        let sites = s.sites.ok_or("lists no sites, the plan asks for them")?;
+        if let Some((x, y, state)) = sites
+            .iter()
+            .find(|&&(x, y, state)| x >= p.width || y >= p.length || state > 0x7f)
+        {
+            return Err(format!(
+                "lists site [{x}, {y}, {state}]: outside the {} x {} pipe or not a 7-bit state",
+                p.width, p.length
+            ));
+        }
+        Some(sites)
+    } else {
+        None
+    };
+    Ok(Sample {
+        t: s.t,
+        bins: s.bins,
+        channels,
+        flux,
+        sites,
+    })
 }
 
 fn external_error(cmd: &str, what: &str) -> Error {

@@ -20,7 +20,7 @@
 //! `gravity-first` (found by the fast engine's author in session 6).
 
 use super::candidate::{Candidate, RunPlan};
-use crate::error::{Error, ErrorKind, Result};
+use crate::error::{Error, Result};
 use crate::pipe::draws::Enumerator;
 use crate::pipe::{Boundary, Params, Pipe, Rules};
 use crate::run::derive_seed;
@@ -376,6 +376,17 @@ pub struct Level1 {
     pub pass: bool,
 }
 
+/// Fewest level-1 trials per (probe, state) (`--trials`). The exact test
+/// rejects at the Bonferroni threshold 0.01 / 3602 (the default table's
+/// family): at 100 trials an outcome of probability 1/2 seen 26 times or
+/// fewer (or 74 times or more) is rejected; at 20 trials only one never or
+/// always seen, and at fewer not even that: the test cannot decide, and
+/// every candidate with the right outcomes would pass.
+pub const MIN_TRIALS: usize = 100;
+
+/// Most level-1 trials per (probe, state) (`--trials`).
+pub const MAX_TRIALS: usize = 1_000_000;
+
 /// Level 1: measure `cand` on every probe and state with `trials` trials and
 /// test every outcome's frequency against the exact table of the reference,
 /// at family-wise false-alarm rate `alpha`.
@@ -388,10 +399,11 @@ pub fn level1(
     alpha: f64,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Level1> {
-    if trials == 0 {
-        return Err(Error::new(
-            ErrorKind::InvalidParameter,
-            "level 1 needs trials >= 1",
+    if !(MIN_TRIALS..=MAX_TRIALS).contains(&trials) {
+        return Err(Error::out_of_range(
+            "--trials",
+            trials,
+            &format!("{MIN_TRIALS}..={MAX_TRIALS}"),
         ));
     }
     let r: Rules = rules.parse()?;
@@ -463,6 +475,16 @@ mod tests {
         let big = binomial_two_sided(5000, 10000, 0.5);
         assert!(big > 0.99, "{big}");
         assert!(binomial_two_sided(4700, 10000, 0.5) < 1e-8);
+    }
+
+    #[test]
+    fn the_fewest_trials_can_decide() {
+        let threshold = 0.01 / 3602.0;
+        let n = MIN_TRIALS as u64;
+        assert!(binomial_two_sided(26, n, 0.5) < threshold);
+        assert!(binomial_two_sided(27, n, 0.5) > threshold);
+        assert!(binomial_two_sided(0, 20, 0.5) < threshold);
+        assert!(binomial_two_sided(0, 19, 0.5) > threshold);
     }
 
     #[test]

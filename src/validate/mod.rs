@@ -171,6 +171,22 @@ pub struct HopperReport {
     pub scenes: Vec<hopper::HopperScene>,
 }
 
+/// Check that `cand` provides what `model` asks for: asking for the
+/// hopper alone of a candidate without one is an
+/// [`ErrorKind::InvalidParameter`] error.
+pub fn check_model(cand: &dyn Candidate, model: Model) -> Result<()> {
+    if model == Model::Hopper && cand.hopper().is_none() {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!(
+                "--model hopper: the candidate {} provides no hopper engine (the external-program contract is pipe-only); use --model pipe or all",
+                cand.name()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Run `levels` of `model` for `cand` against the reference with the pipe
 /// rule reading `rules`; `tick` is called once per finished job (progress).
 /// Asking for the hopper alone of a candidate without one is an error.
@@ -187,15 +203,7 @@ pub fn validate(
 ) -> Result<Report> {
     let start = std::time::Instant::now();
     let _: Rules = rules.parse()?;
-    if model == Model::Hopper && cand.hopper().is_none() {
-        return Err(Error::new(
-            ErrorKind::InvalidParameter,
-            format!(
-                "--model hopper: the candidate {} provides no hopper engine (the external-program contract is pipe-only); use --model pipe or all",
-                cand.name()
-            ),
-        ));
-    }
+    check_model(cand, model)?;
     let params = Params::default();
     let one = levels != Level::Two;
     let two = levels != Level::One;
