@@ -103,7 +103,7 @@ pub const MARGINS: [Margin; 6] = [
         u_digits: 0.0,
         threshold: 0.0,
         runs: 128,
-        derivation: "s_open = 0.0183 (peak half-width 8 instead of 16 bins; window 0.0000, segment readings <= 0.0044), 32 pilot runs of base seed 9001, rounded up; runs: no affordable count decides (pilot: alpha 1.263, |d| 0.067 lies 0.008 above Delta with 0.128 per run: ~2900 runs for a 95 % stable verdict), so the 2-minute count",
+        derivation: "s_open = 0.0183 (peak half-width 8 instead of 16 bins; window 0.0000, segment readings <= 0.0044), 32 pilot runs of base seed 9001, rounded up; runs: no affordable count decides (pilot: alpha 1.263, |d| 0.067 lies 0.008 above Delta with 0.128 per run: ~3400 runs for a 95 % stable verdict (3382 in docs/acceptance/pilot/final-fig2-g32.log)), so the 2-minute count",
     },
     Margin {
         figure: "fig2",
