@@ -17,7 +17,8 @@ use std::path::PathBuf;
     about = "Run every figure binary at one tier and write OUT/report/REPORT.md and index.html"
 )]
 struct Args {
-    /// Tier passed to every figure: quick (minutes in all), standard, paper.
+    /// Tier passed to every figure: quick (minutes in all), standard, paper,
+    /// acceptance.
     #[arg(long, value_enum, default_value_t = Tier::Quick)]
     tier: Tier,
     /// Comma-separated figures to run (default: every figure binary except
@@ -33,6 +34,11 @@ struct Args {
     /// Worker threads of every figure, 1..=1024 (default: all cores).
     #[arg(long, value_parser = parse_threads, allow_negative_numbers = true)]
     threads: Option<usize>,
+    /// Engine of the pipe figures (reference or fast; the hopper's figures
+    /// have one engine). Default: each figure's own (fast at the
+    /// acceptance tier, reference below it).
+    #[arg(long)]
+    engine: Option<String>,
     /// Extra arguments of one figure, BIN=ARGS, e.g. 'waves-fig8=--runs 32'
     /// (repeatable; appended after the report's own).
     #[arg(long, value_name = "BIN=ARGS")]
@@ -49,6 +55,9 @@ fn main() {
 fn report() -> granular_automata::Result<()> {
     let a = Args::parse();
     let figures = select(a.only.as_deref())?;
+    if let Some(e) = &a.engine {
+        e.parse::<granular_automata::pipe::engine::Engine>()?;
+    }
     let mut extra = BTreeMap::new();
     for spec in &a.args_for {
         let (bin, args) = parse_extra(spec, &figures)?;
@@ -64,6 +73,7 @@ fn report() -> granular_automata::Result<()> {
         out: a.out,
         seed: a.seed,
         threads: a.threads,
+        engine: a.engine,
         extra,
         bin_dir,
         command_line: std::env::args().collect::<Vec<_>>().join(" "),

@@ -68,6 +68,8 @@ pub struct Options {
     pub seed: Option<u64>,
     /// `--threads` passed to every figure, if given.
     pub threads: Option<usize>,
+    /// `--engine` passed to the pipe figures (not the hopper's), if given.
+    pub engine: Option<String>,
     /// Extra arguments of single figures (`binary -> args`), appended last.
     pub extra: BTreeMap<String, Vec<String>>,
     /// The folder holding the figure binaries (that of the report's own
@@ -177,6 +179,12 @@ pub struct FigureRun {
     pub wall_seconds: f64,
 }
 
+/// Whether figure `binary` runs the pipe (and takes `--engine`): every
+/// figure but the hopper's.
+pub fn is_pipe_figure(binary: &str) -> bool {
+    !binary.starts_with("hopper-")
+}
+
 /// The arguments passed to figure `binary`.
 pub fn figure_args(opts: &Options, binary: &str) -> Vec<String> {
     let mut a = vec![
@@ -190,6 +198,9 @@ pub fn figure_args(opts: &Options, binary: &str) -> Vec<String> {
     }
     if let Some(t) = opts.threads {
         a.extend(["--threads".to_string(), t.to_string()]);
+    }
+    if let Some(e) = opts.engine.as_ref().filter(|_| is_pipe_figure(binary)) {
+        a.extend(["--engine".to_string(), e.clone()]);
     }
     if let Some(x) = opts.extra.get(binary) {
         a.extend(x.iter().cloned());
@@ -292,6 +303,27 @@ pub struct Row {
     pub rules: String,
     /// Site updates of the figure (all its runs).
     pub site_updates: Option<f64>,
+    /// The test of the claim: `within`, `above`, `below` (empty when none).
+    pub test: String,
+    /// The key of the non-default reading this check belongs to (a case of
+    /// the summary's `cases` with `default_reading: false`, whose key
+    /// prefixes the check's name); `None` for the default reading.
+    pub reading: Option<String>,
+}
+
+/// The key of the non-default case of summary `s` (`params.cases`, or
+/// `cases`) whose key prefixes check name `name` (the longest such key), if
+/// any.
+fn other_reading(s: &Value, name: &str) -> Option<String> {
+    s["params"]["cases"]
+        .as_array()
+        .or_else(|| s["cases"].as_array())?
+        .iter()
+        .filter_map(|c| Some((c["key"].as_str()?, c["default_reading"].as_bool()?)))
+        .filter(|(k, _)| name.strip_prefix(k).is_some_and(|r| r.starts_with('_')))
+        .max_by_key(|(k, _)| k.len())
+        .filter(|(_, default)| !default)
+        .map(|(k, _)| k.to_string())
 }
 
 impl Row {
@@ -325,6 +357,8 @@ impl Row {
             note: text(&c["note"]),
             rules: text(&s["rules"]),
             site_updates: finite(&s["site_updates"]),
+            test: text(&c["claim"]["test"]),
+            reading: other_reading(s, c["name"].as_str().unwrap_or("")),
         }
     }
 
@@ -333,6 +367,83 @@ impl Row {
     pub fn is_published_claim(&self) -> bool {
         self.kind == "published" || (self.kind == "unstated" && self.published.is_some())
     }
+
+    /// Whether this is a published claim of the default reading: the claims
+    /// the project makes (the headline counts these only).
+    pub fn is_default_claim(&self) -> bool {
+        self.is_published_claim() && self.reading.is_none()
+    }
+
+    /// What would decide an undecided check under the grading rule (|d| +-
+    /// k SE against the margin, k = max(2, Student t)): the number of runs
+    /// at which it decides, taking the SE to shrink as 1/sqrt(n); or why no
+    /// run count does.
+    pub fn what_would_decide(&self) -> String {
+        let (Some(x), Some(se), Some(margin)) = (self.measured, self.error, self.tolerance) else {
+            return "no value with a standard error: more runs (at least 3)".into();
+        };
+        // distance to the margin's edge: |d| vs margin for `within`, the
+        // value vs the threshold for `above` / `below`
+        let gap = match (self.test.as_str(), self.published) {
+            ("within", Some(p)) => ((x - p).abs() - margin).abs(),
+            ("above" | "below", _) => (x - margin).abs(),
+            _ => return "the check states no claim to decide".into(),
+        };
+        // on the edge up to rounding: no SE is small enough
+        if gap <= 1e-12 * (1.0 + margin.abs()) || se <= 0.0 {
+            return "the value sits on the margin's edge: no run count decides it".into();
+        }
+        match self.runs.filter(|&n| n >= 3) {
+            Some(n) => match runs_to_decide(n as usize, se, gap) {
+                Some(m) => format!(
+                    "|d| lies {} from the margin's edge, SE {} over {n} runs: about {m} runs decide it",
+                    sig(gap, 2),
+                    sig(se, 2)
+                ),
+                None => format!(
+                    "|d| lies {} from the margin's edge, SE {} over {n} runs: more than {} runs",
+                    sig(gap, 2),
+                    sig(se, 2),
+                    MAX_RUNS_TO_DECIDE
+                ),
+            },
+            None => format!(
+                "SE {} needed (now {}), with at least 3 runs",
+                sig(gap / 2.0, 2),
+                sig(se, 2)
+            ),
+        }
+    }
+}
+
+/// The largest run count [`runs_to_decide`] looks at.
+const MAX_RUNS_TO_DECIDE: usize = 1_000_000_000;
+
+/// The fewest runs m > n at which k(m) SE sqrt(n / m) <= gap, the SE of `n`
+/// runs being `se` (k: [`coverage_factor`]); `None` beyond
+/// [`MAX_RUNS_TO_DECIDE`].
+fn runs_to_decide(n: usize, se: f64, gap: f64) -> Option<usize> {
+    let decides = |m: usize| {
+        crate::analysis::grading::coverage_factor(m)
+            .is_some_and(|k| k * se * (n as f64 / m as f64).sqrt() <= gap)
+    };
+    let mut hi = n.max(3) + 1;
+    while !decides(hi) {
+        if hi >= MAX_RUNS_TO_DECIDE {
+            return None;
+        }
+        hi = (hi * 2).min(MAX_RUNS_TO_DECIDE);
+    }
+    let mut lo = n.max(3); // lo does not decide (or is n itself)
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if decides(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(hi)
 }
 
 fn finite(v: &Value) -> Option<f64> {
@@ -703,7 +814,6 @@ fn updates(x: Option<f64>) -> String {
 /// Counts of the report's rows.
 struct Counts {
     published: usize,
-    published_reproduced: usize,
     verdicts: BTreeMap<String, usize>,
     kinds: BTreeMap<String, usize>,
     readings: BTreeMap<String, usize>,
@@ -712,7 +822,6 @@ struct Counts {
 fn counts(r: &Report) -> Counts {
     let mut c = Counts {
         published: 0,
-        published_reproduced: 0,
         verdicts: BTreeMap::new(),
         kinds: BTreeMap::new(),
         readings: BTreeMap::new(),
@@ -720,11 +829,8 @@ fn counts(r: &Report) -> Counts {
     for row in &r.rows {
         *c.verdicts.entry(row.verdict.clone()).or_default() += 1;
         *c.kinds.entry(row.kind.clone()).or_default() += 1;
-        if row.is_published_claim() {
+        if row.is_default_claim() {
             c.published += 1;
-            if row.verdict == "reproduced" {
-                c.published_reproduced += 1;
-            }
         }
     }
     for f in r.figures.iter().filter(|f| !f.rules.is_empty()) {
@@ -752,9 +858,9 @@ fn headline(r: &Report) -> String {
         .collect::<Vec<_>>()
         .join(", ");
     let failed = r.figures.iter().filter(|f| !f.run.ok).count();
+    let [yes, no, open] = tally(r.rows.iter());
     let mut s = format!(
-        "{} of {} published claims reproduced at the {} tier ({} figure{} run{}), default rule readings: {}.",
-        c.published_reproduced,
+        "{yes} of {} published claims of the default reading reproduced at the {} tier, {no} not reproduced, {open} undecided ({} figure{} run{}), default rule readings: {}.",
         c.published,
         r.tier,
         r.figures.len(),
@@ -772,12 +878,60 @@ fn headline(r: &Report) -> String {
     s
 }
 
+/// The default reading's published claims that are not reproduced.
 fn discrepancies(r: &Report) -> Vec<&Row> {
     r.rows
         .iter()
-        .filter(|x| x.is_published_claim() && x.verdict != "reproduced")
+        .filter(|x| x.is_default_claim() && x.verdict == "not-reproduced")
         .collect()
 }
+
+/// The default reading's published claims that are undecided.
+fn undecided(r: &Report) -> Vec<&Row> {
+    r.rows
+        .iter()
+        .filter(|x| x.is_default_claim() && x.verdict == "undecided")
+        .collect()
+}
+
+/// Published claims of the default reading: (reproduced, not reproduced,
+/// undecided) of the rows `rows`.
+fn tally<'a>(rows: impl Iterator<Item = &'a Row>) -> [usize; 3] {
+    let mut t = [0; 3];
+    for x in rows.filter(|x| x.is_default_claim()) {
+        match x.verdict.as_str() {
+            "reproduced" => t[0] += 1,
+            "not-reproduced" => t[1] += 1,
+            _ => t[2] += 1,
+        }
+    }
+    t
+}
+
+/// One line per paper (and per figure of it): the default reading's
+/// published claims reproduced / not reproduced / undecided.
+fn per_paper(r: &Report) -> Vec<(String, [usize; 3])> {
+    let mut papers: Vec<String> = r.rows.iter().map(|x| x.paper.clone()).collect();
+    papers.dedup();
+    let mut seen = std::collections::BTreeSet::new();
+    papers.retain(|p| seen.insert(p.clone()));
+    papers
+        .into_iter()
+        .map(|p| {
+            let t = tally(r.rows.iter().filter(|x| x.paper == p));
+            (p, t)
+        })
+        .collect()
+}
+
+/// The first line of `note`, cut to `max` characters: the one-line
+/// mechanism of a discrepancy.
+fn one_line(note: &str, max: usize) -> String {
+    shorten(note.lines().next().unwrap_or(""), max)
+}
+
+/// Characters of a note shown as a discrepancy's mechanism.
+const MECHANISM_CHARS: usize = 240;
 
 fn md_cell(s: &str) -> String {
     s.replace('|', "\\|").replace('\n', " ")
@@ -819,45 +973,100 @@ pub fn markdown(r: &Report) -> String {
         }
         m.push('\n');
     }
-    let d = discrepancies(r);
-    let _ = writeln!(m, "## Known discrepancies ({})\n", d.len());
+    let _ = writeln!(m, "## Overview\n");
     let _ = writeln!(
         m,
-        "Published claims not reproduced (or undecided) at this tier; their explanation is in [EXPERIMENTS.md]({}).\n",
+        "Published claims of the default reading per paper: reproduced / not reproduced / undecided.\n"
+    );
+    let _ = writeln!(m, "| paper | reproduced | not reproduced | undecided |");
+    let _ = writeln!(m, "|---|---|---|---|");
+    for (p, [y, n, u]) in per_paper(r) {
+        let _ = writeln!(m, "| {p} | {y} | {n} | {u} |");
+    }
+    let _ = writeln!(
+        m,
+        "\n| figure | paper | reproduced | not reproduced | undecided | status | wall time |"
+    );
+    let _ = writeln!(m, "|---|---|---|---|---|---|---|");
+    for f in &r.figures {
+        let [y, n, u] = tally(r.rows.iter().filter(|x| x.binary == f.run.binary));
+        let _ = writeln!(
+            m,
+            "| [`{b}`](../{b}/) | {} | {y} | {n} | {u} | {} | {:.1} s {TIMING_MARK} |",
+            f.paper,
+            status(f),
+            f.run.wall_seconds,
+            b = f.run.binary
+        );
+    }
+    let d = discrepancies(r);
+    let _ = writeln!(m, "\n## Known discrepancies ({})\n", d.len());
+    let _ = writeln!(
+        m,
+        "Published claims of the default reading not reproduced at this tier, each with the mechanism its check records; the explanations are in [EXPERIMENTS.md]({}).\n",
         r.discrepancy_link
     );
     for x in &d {
         let _ = writeln!(
             m,
-            "- {} {} `{}` ({}): published {}, measured {}: {}",
+            "- {} {} `{}`: published {}, measured {}: {}",
             x.paper,
             x.figure,
             x.name,
-            x.verdict,
             published(x),
             measured(x),
-            md_cell(&x.note)
+            md_cell(&one_line(&x.note, MECHANISM_CHARS))
         );
     }
-    let _ = writeln!(m, "\n## Checks\n");
-    let _ = writeln!(m, "| paper | figure | check: claim | published | measured ± SE | verdict | kind | rule reading | site updates |");
-    let _ = writeln!(m, "|---|---|---|---|---|---|---|---|---|");
-    for x in &r.rows {
+    let u = undecided(r);
+    let _ = writeln!(m, "\n## Undecided ({})\n", u.len());
+    let _ = writeln!(
+        m,
+        "Published claims of the default reading that this tier does not decide, each with what would decide it (grading rule |d| +- k SE against the margin, k about 2).\n"
+    );
+    for x in &u {
         let _ = writeln!(
             m,
-            "| {} | {} (`{}`) | `{}`: {} | {} | {} | {} | {} | `{}` | {} |",
+            "- {} {} `{}`: published {}, measured {}: {}",
             x.paper,
             x.figure,
-            x.binary,
             x.name,
-            md_cell(&claim(x)),
             published(x),
             measured(x),
-            x.verdict,
-            x.kind,
-            shorten(&x.rules, RULES_CELL),
-            updates(x.site_updates)
+            x.what_would_decide()
         );
+    }
+    let table = |m: &mut String, rows: &[&Row]| {
+        let _ = writeln!(m, "| paper | figure | check: claim | published | measured ± SE | verdict | kind | rule reading | site updates |");
+        let _ = writeln!(m, "|---|---|---|---|---|---|---|---|---|");
+        for x in rows {
+            let _ = writeln!(
+                m,
+                "| {} | {} (`{}`) | `{}`: {} | {} | {} | {} | {} | `{}` | {} |",
+                x.paper,
+                x.figure,
+                x.binary,
+                x.name,
+                md_cell(&claim(x)),
+                published(x),
+                measured(x),
+                x.verdict,
+                x.kind,
+                shorten(&x.rules, RULES_CELL),
+                updates(x.site_updates)
+            );
+        }
+    };
+    let (own, other): (Vec<&Row>, Vec<&Row>) = r.rows.iter().partition(|x| x.reading.is_none());
+    let _ = writeln!(m, "\n## Checks\n");
+    table(&mut m, &own);
+    if !other.is_empty() {
+        let _ = writeln!(m, "\n## Checks of other readings ({})\n", other.len());
+        let _ = writeln!(
+            m,
+            "Comparisons: the same checks for readings that are not the default (the case key prefixes each name); not claims of the project and not counted above.\n"
+        );
+        table(&mut m, &other);
     }
     let _ = writeln!(m, "\n## Figures and cost\n");
     let _ = writeln!(m, "Wall times: `process` is the figure's subprocess, `summary` its own summary.json (a figure that resumed saved runs reports only the analysis); site updates count all its runs.\n");
@@ -964,7 +1173,8 @@ code{font-size:.92em}
 .card img{width:100%;height:220px;object-fit:contain;border:1px solid #eee;margin:.2em 0}
 .card h3{font-size:1em;margin:.2em 0}
 pre{background:#f6f6f6;padding:.5em;overflow-x:auto;font-size:.85em}
-.small{font-size:.85em;color:#555}";
+.small{font-size:.85em;color:#555}
+img.thumb{width:96px;height:64px;object-fit:contain;border:1px solid #eee}";
 
 /// The report as one self-contained HTML page (inline CSS, no scripts,
 /// relative links to the figures' PNGs and CSVs).
@@ -1003,45 +1213,95 @@ pub fn html(r: &Report) -> String {
             }
         }
     }
+    let _ = writeln!(h, "<h2>Overview</h2>\n<p>Published claims of the default reading: reproduced / not reproduced / undecided.</p>\n<table>\n<thead><tr><th>paper</th><th>reproduced</th><th>not reproduced</th><th>undecided</th></tr></thead>\n<tbody>");
+    for (p, [y, n, u]) in per_paper(r) {
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td class=\"num\">{y}</td><td class=\"num\">{n}</td><td class=\"num\">{u}</td></tr>",
+            esc(&p)
+        );
+    }
+    let _ = writeln!(h, "</tbody>\n</table>\n<table>\n<thead><tr><th></th><th>figure</th><th>reproduced</th><th>not</th><th>undecided</th><th>wall time</th></tr></thead>\n<tbody>");
+    for f in &r.figures {
+        let [y, n, u] = tally(r.rows.iter().filter(|x| x.binary == f.run.binary));
+        let thumb = f.pngs.first().map_or(String::new(), |p| {
+            format!(
+                "<a href=\"#fig-{b}\"><img class=\"thumb\" src=\"../{b}/{}\" alt=\"{}\"></a>",
+                esc(p),
+                esc(p),
+                b = esc(&f.run.binary)
+            )
+        });
+        let _ = writeln!(
+            h,
+            "<tr {HTML_TIMING_MARK} class=\"{}\"><td>{thumb}</td><td><a href=\"#fig-{b}\"><code>{b}</code></a><br><span class=\"small\">{}</span></td><td class=\"num\">{y}</td><td class=\"num\">{n}</td><td class=\"num\">{u}</td><td class=\"num\">{:.1} s</td></tr>",
+            if f.run.ok { "" } else { "not-reproduced" },
+            esc(&f.paper),
+            f.run.wall_seconds,
+            b = esc(&f.run.binary)
+        );
+    }
+    let _ = writeln!(h, "</tbody>\n</table>");
     let d = discrepancies(r);
     let _ = writeln!(h, "<h2>Known discrepancies ({})</h2>", d.len());
-    let _ = writeln!(h, "<p>Published claims not reproduced (or undecided) at this tier; their explanation is in <a href=\"{}\">EXPERIMENTS.md, Known discrepancies</a>.</p>\n<ul>", esc(&r.discrepancy_link));
+    let _ = writeln!(h, "<p>Published claims of the default reading not reproduced at this tier, each with the mechanism its check records; the explanations are in <a href=\"{}\">EXPERIMENTS.md, Known discrepancies</a>.</p>\n<ul>", esc(&r.discrepancy_link));
     for x in &d {
         let _ = writeln!(
             h,
-            "<li>{} {} <code>{}</code> (<span class=\"{}\">{}</span>): published {}, measured {}: {}</li>",
+            "<li>{} {} <code>{}</code>: published {}, measured {}: {}</li>",
             esc(&x.paper),
             esc(&x.figure),
             esc(&x.name),
-            esc(&x.verdict),
-            esc(&x.verdict),
             esc(&published(x)),
             esc(&measured(x)),
-            esc(&x.note)
+            esc(&one_line(&x.note, MECHANISM_CHARS))
         );
     }
-    let _ = writeln!(h, "</ul>\n<h2>Checks</h2>");
-    let _ = writeln!(h, "<table>\n<thead><tr><th>paper</th><th>figure</th><th>check: claim</th><th>published (margin)</th><th>measured ± SE</th><th>verdict</th><th>kind</th><th>rule reading</th><th>site updates</th></tr></thead>\n<tbody>");
-    for x in &r.rows {
+    let u = undecided(r);
+    let _ = writeln!(h, "</ul>\n<h2>Undecided ({})</h2>\n<p>Published claims of the default reading this tier does not decide, each with what would decide it (|d| +- k SE against the margin, k about 2).</p>\n<ul>", u.len());
+    for x in &u {
         let _ = writeln!(
             h,
-            "<tr class=\"{v}\"><td>{}</td><td>{} <a href=\"../{b}/\"><code>{b}</code></a></td><td title=\"{}\"><code>{}</code>: {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"v\">{v}</td><td>{}</td><td title=\"{}\"><code>{}</code></td><td class=\"num\">{}</td></tr>",
+            "<li>{} {} <code>{}</code>: published {}, measured {}: {}</li>",
             esc(&x.paper),
             esc(&x.figure),
-            esc(&x.note),
             esc(&x.name),
-            esc(&claim(x)),
             esc(&published(x)),
             esc(&measured(x)),
-            esc(&x.kind),
-            esc(&x.rules),
-            esc(&shorten(&x.rules, RULES_CELL)),
-            updates(x.site_updates),
-            v = esc(&x.verdict),
-            b = esc(&x.binary),
+            esc(&x.what_would_decide())
         );
     }
-    let _ = writeln!(h, "</tbody>\n</table>\n<p class=\"small\">Hover a claim for the check's full note.</p>\n<h2>Figures and cost</h2>");
+    let (own, other): (Vec<&Row>, Vec<&Row>) = r.rows.iter().partition(|x| x.reading.is_none());
+    let table = |h: &mut String, rows: &[&Row]| {
+        let _ = writeln!(h, "<table>\n<thead><tr><th>paper</th><th>figure</th><th>check: claim</th><th>published (margin)</th><th>measured ± SE</th><th>verdict</th><th>kind</th><th>rule reading</th><th>site updates</th></tr></thead>\n<tbody>");
+        for x in rows {
+            let _ = writeln!(
+                h,
+                "<tr class=\"{v}\"><td>{}</td><td>{} <a href=\"../{b}/\"><code>{b}</code></a></td><td title=\"{}\"><code>{}</code>: {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"v\">{v}</td><td>{}</td><td title=\"{}\"><code>{}</code></td><td class=\"num\">{}</td></tr>",
+                esc(&x.paper),
+                esc(&x.figure),
+                esc(&x.note),
+                esc(&x.name),
+                esc(&claim(x)),
+                esc(&published(x)),
+                esc(&measured(x)),
+                esc(&x.kind),
+                esc(&x.rules),
+                esc(&shorten(&x.rules, RULES_CELL)),
+                updates(x.site_updates),
+                v = esc(&x.verdict),
+                b = esc(&x.binary),
+            );
+        }
+        let _ = writeln!(h, "</tbody>\n</table>");
+    };
+    let _ = writeln!(h, "</ul>\n<h2>Checks</h2>");
+    table(&mut h, &own);
+    if !other.is_empty() {
+        let _ = writeln!(h, "<h2>Checks of other readings ({})</h2>\n<p>Comparisons: the same checks for readings that are not the default (the case key prefixes each name); not claims of the project and not counted above.</p>", other.len());
+        table(&mut h, &other);
+    }
+    let _ = writeln!(h, "<p class=\"small\">Hover a claim for the check's full note.</p>\n<h2>Figures and cost</h2>");
     let _ = writeln!(h, "<p class=\"small\">Wall times: <i>process</i> is the figure's subprocess, <i>summary</i> its own summary.json (a figure that resumed saved runs reports only the analysis); site updates count all its runs.</p>");
     let _ = writeln!(h, "<table>\n<thead><tr><th>figure</th><th>paper</th><th>status</th><th>runs</th><th>site updates</th><th>wall time</th></tr></thead>\n<tbody>");
     for f in &r.figures {
@@ -1083,10 +1343,16 @@ pub fn html(r: &Report) -> String {
         } else {
             f.pngs.iter().map(Some).collect()
         };
-        for p in pngs {
+        for (i, p) in pngs.into_iter().enumerate() {
+            // the first card of a figure is the overview's link target
+            let id = if i == 0 {
+                format!(" id=\"fig-{b}\"")
+            } else {
+                String::new()
+            };
             let _ = write!(
                 h,
-                "<div class=\"card\"><h3>{} (<code>{b}</code>)</h3>",
+                "<div class=\"card\"{id}><h3>{} (<code>{b}</code>)</h3>",
                 esc(&f.paper)
             );
             if let Some(p) = p {
@@ -1205,6 +1471,77 @@ mod tests {
         );
         assert_eq!(r.runs, Some(8));
         assert!(r.is_published_claim());
+    }
+
+    #[test]
+    fn other_readings_and_what_would_decide() {
+        let s = json!({"paper": "BB90 Fig. 2", "cases": [
+            {"key": "beta0", "default_reading": true},
+            {"key": "beta1_same", "default_reading": false},
+            {"key": "beta1_same_narrow", "default_reading": false},
+            {"key": "beta1_bond", "default_reading": true}]});
+        let row = |name: &str| {
+            Row::from_json(
+                "hopper-fig2",
+                &s,
+                &json!({"name": name, "kind": "published",
+                "measured": 1.25, "error": 0.01, "runs": 128, "published": 1.33,
+                "tolerance": 0.059, "claim": {"test": "within"}, "verdict": "undecided"}),
+            )
+        };
+        assert_eq!(
+            row("beta1_same_order").reading.as_deref(),
+            Some("beta1_same")
+        );
+        assert_eq!(
+            row("beta1_same_narrow_order").reading.as_deref(),
+            Some("beta1_same_narrow")
+        );
+        assert_eq!(row("beta1_bond_order").reading, None);
+        assert_eq!(row("beta0_structureless").reading, None);
+        assert!(!row("beta1_same_order").is_default_claim());
+        assert!(row("beta1_bond_order").is_default_claim());
+        // |d| = 0.05 lies 0.009 inside the margin; 2 x 0.01 sqrt(128 / m)
+        // <= 0.009 from m = 632.1
+        let mut r = row("beta1_bond_order");
+        r.measured = Some(1.28);
+        assert!(
+            r.what_would_decide().contains("about 633 runs decide it"),
+            "{}",
+            r.what_would_decide()
+        );
+        let mut edge = r.clone();
+        edge.measured = Some(1.33 - 0.059);
+        assert!(edge.what_would_decide().contains("no run count"));
+        // Student's t at small n: 3 runs with k = 4.30
+        r.runs = Some(3);
+        r.error = Some(0.004);
+        let m = runs_to_decide(3, 0.004, 0.009);
+        assert_eq!(
+            m,
+            Some(5),
+            "k(4) = 3.18: 0.0110 > 0.009; k(5) = 2.78: 0.0086"
+        );
+        let mut none = r;
+        none.error = None;
+        assert!(none.what_would_decide().contains("at least 3"));
+    }
+
+    #[test]
+    fn engine_goes_to_the_pipe_figures_only() {
+        let opts = Options {
+            tier: Tier::Acceptance,
+            figures: vec![],
+            out: PathBuf::from("o"),
+            seed: None,
+            threads: None,
+            engine: Some("fast".into()),
+            extra: BTreeMap::new(),
+            bin_dir: PathBuf::from("."),
+            command_line: String::new(),
+        };
+        assert!(figure_args(&opts, "fig2").ends_with(&["--engine".into(), "fast".into()]));
+        assert!(!figure_args(&opts, "hopper-fig3").contains(&"--engine".to_string()));
     }
 
     #[test]

@@ -361,6 +361,7 @@ fn run_one(plan: &Plan, key: &Key, tier: Tier, engine: &str, dir: &Path) -> Resu
         out: dir.to_path_buf(),
         seed: Some(plan.seed),
         threads: Some(plan.threads),
+        engine: None,
         extra: BTreeMap::from([(key.figure.to_string(), extra)]),
         bin_dir: plan.bin_dir.clone(),
         command_line: String::new(),

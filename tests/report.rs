@@ -27,9 +27,13 @@ fn read(path: PathBuf) -> String {
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-/// The rows of the Markdown checks table: (binary, check name, verdict).
-fn md_rows(md: &str) -> Vec<(String, String, String)> {
-    let table = md.split("## Checks").nth(1).expect("checks section");
+/// The rows of the Markdown checks tables of section `heading`: (binary,
+/// check name, verdict).
+fn md_rows(md: &str, heading: &str) -> Vec<(String, String, String)> {
+    let Some(table) = md.split(heading).nth(1) else {
+        return vec![];
+    };
+    let table = table.split("\n## ").next().unwrap();
     let mut lines = table.lines().filter(|l| l.starts_with('|'));
     let header: Vec<String> = lines
         .next()
@@ -76,7 +80,25 @@ fn report_of_two_figures_agrees_with_their_summaries_and_is_reproducible() {
         "thumbnail"
     );
 
-    let rows = md_rows(&md);
+    // the default reading's checks, then those of other readings
+    let own = md_rows(&md, "\n## Checks\n");
+    let other = md_rows(&md, "\n## Checks of other readings");
+    assert!(!other.is_empty(), "hopper comparisons listed apart");
+    for (_, name, _) in &other {
+        assert!(
+            !name.starts_with("beta0_") && !name.starts_with("beta1_bond_"),
+            "{name}: a default case's check among the other readings"
+        );
+    }
+    for (_, name, _) in &own {
+        assert!(
+            !name.starts_with("beta1_same_") && !name.starts_with("beta1_along_"),
+            "{name}: another reading's check among the default's"
+        );
+    }
+    let mut rows = own.clone();
+    rows.extend(other.iter().cloned());
+    rows.sort();
     let mut expected = vec![];
     for bin in ["hopper-fig2", "hopper-fig3"] {
         let s: serde_json::Value =
@@ -95,6 +117,7 @@ fn report_of_two_figures_agrees_with_their_summaries_and_is_reproducible() {
         }
     }
     assert!(!expected.is_empty());
+    expected.sort();
     assert_eq!(
         rows, expected,
         "one row per check, verdict as in summary.json"
@@ -137,7 +160,7 @@ fn a_failing_figure_is_listed_and_does_not_stop_the_others() {
     assert!(failed.contains("**hopper-fig2**: exit status 2"), "{md}");
     assert!(failed.contains("--no-such-option"), "stderr tail shown");
     assert!(md.contains("`hopper-fig3`: ") || md.contains("(`hopper-fig3`)"));
-    let rows = md_rows(&md);
+    let rows = md_rows(&md, "\n## Checks\n");
     assert!(rows.iter().all(|(b, _, _)| b == "hopper-fig3"));
     assert!(
         !rows.is_empty(),
@@ -157,5 +180,15 @@ fn unknown_figures_are_a_typed_error_up_front() {
         err.contains("fig99") && err.contains("hopper-fig2"),
         "{err}"
     );
+    assert!(!out.join("hopper-fig2").exists(), "nothing ran");
+}
+
+#[test]
+fn an_unknown_engine_is_a_typed_error_up_front() {
+    let out = fresh("engine");
+    let r = report(&out, &["--only", "hopper-fig2", "--engine", "gpu"]);
+    assert_eq!(r.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("gpu") && err.contains("fast"), "{err}");
     assert!(!out.join("hopper-fig2").exists(), "nothing ran");
 }

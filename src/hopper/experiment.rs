@@ -487,10 +487,25 @@ impl Case {
         p
     }
 
-    /// The case as recorded in `summary.json`: key, beta and reading.
+    /// Whether this case is the default model at its beta: the default
+    /// reading of "aligned" and of rest pairs, the tier's rain and the
+    /// default dynamics ([`HopperParams::default`]). Its checks are the
+    /// project's claims; the other cases' are comparisons of readings.
+    pub fn is_default_reading(&self) -> bool {
+        let d = HopperParams::default();
+        self.aligned == d.energy.aligned
+            && self.rest_pairs == d.energy.rest_pairs
+            && self.rain_scale == 1.0
+            && self.dynamics == d.dynamics
+    }
+
+    /// The case as recorded in `summary.json`: key, beta, reading and
+    /// whether it is the default reading (`report` counts only those
+    /// cases' checks as the project's claims).
     pub fn json(&self) -> serde_json::Value {
         serde_json::json!({"key": self.key, "beta": self.beta, "aligned": self.aligned.name(),
-            "rest_pairs": self.rest_pairs, "rain_scale": self.rain_scale, "dynamics": self.dynamics})
+            "rest_pairs": self.rest_pairs, "rain_scale": self.rain_scale, "dynamics": self.dynamics,
+            "default_reading": self.is_default_reading()})
     }
 }
 
@@ -673,4 +688,22 @@ pub fn lag_correlation(q: &[f64], lag: usize) -> f64 {
         .sum::<f64>()
         / (n - lag) as f64;
     c / v
+}
+
+#[cfg(test)]
+mod reading_tests {
+    use super::Case;
+
+    /// beta = 0 and the along-bond beta = 1 case are the default model; the
+    /// other readings and the diagnostic dynamics are comparisons.
+    #[test]
+    fn default_reading_cases() {
+        let default: Vec<&str> = Case::ALL
+            .iter()
+            .filter(|c| c.is_default_reading())
+            .map(|c| c.key)
+            .collect();
+        assert_eq!(default, ["beta0", "beta1_bond"]);
+        assert_eq!(Case::BETA1_SAME.json()["default_reading"], false);
+    }
 }
