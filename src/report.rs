@@ -393,18 +393,21 @@ impl Row {
         if gap <= 1e-12 * (1.0 + margin.abs()) || se <= 0.0 {
             return "the value sits on the margin's edge: no run count decides it".into();
         }
+        let edge = if self.test == "within" {
+            "|d| lies {gap} from the margin"
+        } else {
+            "the value lies {gap} from the threshold"
+        }
+        .replace("{gap}", &sig(gap, 2));
         match self.runs.filter(|&n| n >= 3) {
             Some(n) => match runs_to_decide(n as usize, se, gap) {
                 Some(m) => format!(
-                    "|d| lies {} from the margin's edge, SE {} over {n} runs: about {m} runs decide it",
-                    sig(gap, 2),
+                    "{edge}, SE {} over {n} runs: about {m} runs decide it",
                     sig(se, 2)
                 ),
                 None => format!(
-                    "|d| lies {} from the margin's edge, SE {} over {n} runs: more than {} runs",
-                    sig(gap, 2),
-                    sig(se, 2),
-                    MAX_RUNS_TO_DECIDE
+                    "{edge}, SE {} over {n} runs: more than {MAX_RUNS_TO_DECIDE} runs",
+                    sig(se, 2)
                 ),
             },
             None => format!(
@@ -1022,7 +1025,7 @@ pub fn markdown(r: &Report) -> String {
     let _ = writeln!(m, "\n## Undecided ({})\n", u.len());
     let _ = writeln!(
         m,
-        "Published claims of the default reading that this tier does not decide, each with what would decide it (grading rule |d| +- k SE against the margin, k about 2).\n"
+        "Published claims of the default reading that this tier does not decide, each with what would decide it (the grading rule, |d| +- k SE against the margin with k = max(2, Student t), the SE shrinking as 1/sqrt(runs)).\n"
     );
     for x in &u {
         let _ = writeln!(
@@ -1174,7 +1177,8 @@ code{font-size:.92em}
 .card h3{font-size:1em;margin:.2em 0}
 pre{background:#f6f6f6;padding:.5em;overflow-x:auto;font-size:.85em}
 .small{font-size:.85em;color:#555}
-img.thumb{width:96px;height:64px;object-fit:contain;border:1px solid #eee}";
+img.thumb{width:96px;height:64px;object-fit:contain;border:1px solid #eee}
+.scroll{overflow-x:auto}";
 
 /// The report as one self-contained HTML page (inline CSS, no scripts,
 /// relative links to the figures' PNGs and CSVs).
@@ -1213,7 +1217,7 @@ pub fn html(r: &Report) -> String {
             }
         }
     }
-    let _ = writeln!(h, "<h2>Overview</h2>\n<p>Published claims of the default reading: reproduced / not reproduced / undecided.</p>\n<table>\n<thead><tr><th>paper</th><th>reproduced</th><th>not reproduced</th><th>undecided</th></tr></thead>\n<tbody>");
+    let _ = writeln!(h, "<h2>Overview</h2>\n<p>Published claims of the default reading: reproduced / not reproduced / undecided.</p>\n<div class=\"scroll\"><table>\n<thead><tr><th>paper</th><th>reproduced</th><th>not reproduced</th><th>undecided</th></tr></thead>\n<tbody>");
     for (p, [y, n, u]) in per_paper(r) {
         let _ = writeln!(
             h,
@@ -1221,7 +1225,7 @@ pub fn html(r: &Report) -> String {
             esc(&p)
         );
     }
-    let _ = writeln!(h, "</tbody>\n</table>\n<table>\n<thead><tr><th></th><th>figure</th><th>reproduced</th><th>not</th><th>undecided</th><th>wall time</th></tr></thead>\n<tbody>");
+    let _ = writeln!(h, "</tbody>\n</table></div>\n<div class=\"scroll\"><table>\n<thead><tr><th></th><th>figure</th><th>reproduced</th><th>not</th><th>undecided</th><th>wall time</th></tr></thead>\n<tbody>");
     for f in &r.figures {
         let [y, n, u] = tally(r.rows.iter().filter(|x| x.binary == f.run.binary));
         let thumb = f.pngs.first().map_or(String::new(), |p| {
@@ -1241,7 +1245,7 @@ pub fn html(r: &Report) -> String {
             b = esc(&f.run.binary)
         );
     }
-    let _ = writeln!(h, "</tbody>\n</table>");
+    let _ = writeln!(h, "</tbody>\n</table></div>");
     let d = discrepancies(r);
     let _ = writeln!(h, "<h2>Known discrepancies ({})</h2>", d.len());
     let _ = writeln!(h, "<p>Published claims of the default reading not reproduced at this tier, each with the mechanism its check records; the explanations are in <a href=\"{}\">EXPERIMENTS.md, Known discrepancies</a>.</p>\n<ul>", esc(&r.discrepancy_link));
@@ -1258,7 +1262,7 @@ pub fn html(r: &Report) -> String {
         );
     }
     let u = undecided(r);
-    let _ = writeln!(h, "</ul>\n<h2>Undecided ({})</h2>\n<p>Published claims of the default reading this tier does not decide, each with what would decide it (|d| +- k SE against the margin, k about 2).</p>\n<ul>", u.len());
+    let _ = writeln!(h, "</ul>\n<h2>Undecided ({})</h2>\n<p>Published claims of the default reading this tier does not decide, each with what would decide it (the grading rule, |d| +- k SE against the margin with k = max(2, Student t), the SE shrinking as 1/sqrt(runs)).</p>\n<ul>", u.len());
     for x in &u {
         let _ = writeln!(
             h,
@@ -1273,7 +1277,7 @@ pub fn html(r: &Report) -> String {
     }
     let (own, other): (Vec<&Row>, Vec<&Row>) = r.rows.iter().partition(|x| x.reading.is_none());
     let table = |h: &mut String, rows: &[&Row]| {
-        let _ = writeln!(h, "<table>\n<thead><tr><th>paper</th><th>figure</th><th>check: claim</th><th>published (margin)</th><th>measured ± SE</th><th>verdict</th><th>kind</th><th>rule reading</th><th>site updates</th></tr></thead>\n<tbody>");
+        let _ = writeln!(h, "<div class=\"scroll\"><table>\n<thead><tr><th>paper</th><th>figure</th><th>check: claim</th><th>published (margin)</th><th>measured ± SE</th><th>verdict</th><th>kind</th><th>rule reading</th><th>site updates</th></tr></thead>\n<tbody>");
         for x in rows {
             let _ = writeln!(
                 h,
@@ -1293,7 +1297,7 @@ pub fn html(r: &Report) -> String {
                 b = esc(&x.binary),
             );
         }
-        let _ = writeln!(h, "</tbody>\n</table>");
+        let _ = writeln!(h, "</tbody>\n</table></div>");
     };
     let _ = writeln!(h, "</ul>\n<h2>Checks</h2>");
     table(&mut h, &own);
