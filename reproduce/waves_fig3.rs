@@ -14,8 +14,9 @@
 
 use clap::Parser;
 use granular_automata::analysis::grading::{Claim, Estimate, Kind};
-use granular_automata::analysis::relaxation::{fig3_checks, Saturation};
+use granular_automata::analysis::relaxation::Saturation;
 use granular_automata::cli::{check_steps, WaveOptions};
+use granular_automata::drivers::relaxation::fig3_checks;
 use granular_automata::pipe::observables::random_start_contrast;
 use granular_automata::pipe::record::{
     relaxation, relaxation_schedule, sample_times, RELAXATION_EARLY,

@@ -38,24 +38,7 @@ pub fn parse_threads(s: &str) -> crate::Result<usize> {
     parse_count("--threads", s, 1, MAX_THREADS)
 }
 
-/// Reject a list option whose entries repeat (e.g. `--lengths 128,128`,
-/// which would run and report the same set-up twice): an
-/// [`crate::ErrorKind::InvalidParameter`] error naming the option and the
-/// repeated value.
-pub fn reject_duplicates<T: PartialEq + std::fmt::Display>(
-    option: &str,
-    values: &[T],
-) -> crate::Result<()> {
-    for (i, v) in values.iter().enumerate() {
-        if values[..i].contains(v) {
-            return Err(crate::Error::new(
-                crate::ErrorKind::InvalidParameter,
-                format!("{option}: {v} is given more than once; give each value once"),
-            ));
-        }
-    }
-    Ok(())
-}
+pub use crate::error::reject_duplicates;
 
 /// Reject a pipe of fewer than two bins: its one bin count is the
 /// conserved particle number (periodic pipe) or the whole pipe, so no wave,
@@ -329,6 +312,23 @@ impl Common {
 mod tests {
     use super::*;
     use clap::Parser;
+
+    /// The engine named by `--engine` reaches every chart title (a PNG from
+    /// the fast engine must not look like one from the reference).
+    #[test]
+    fn the_caption_note_names_the_engine() {
+        let args = PipeRules {
+            rules: "default".to_string(),
+            engine: Some("fast".to_string()),
+        };
+        args.engine(crate::run::Tier::Quick).unwrap();
+        assert_eq!(
+            crate::plot::captioned("PH95 Fig. 12"),
+            "PH95 Fig. 12 [fast engine]"
+        );
+        crate::plot::set_caption_note("");
+        assert_eq!(crate::plot::captioned("PH95 Fig. 12"), "PH95 Fig. 12");
+    }
 
     fn parse(args: &[&str]) -> std::result::Result<PipeArgs, String> {
         PipeArgs::try_parse_from(std::iter::once("fig").chain(args.iter().copied()))

@@ -119,6 +119,25 @@ pub fn parse_pair(
     })
 }
 
+/// Reject a list option whose entries repeat (e.g. `--lengths 128,128`,
+/// which would run and report the same set-up twice): an
+/// [`ErrorKind::InvalidParameter`] error naming the option and the
+/// repeated value.
+pub fn reject_duplicates<T: PartialEq + std::fmt::Display>(
+    option: &str,
+    values: &[T],
+) -> Result<()> {
+    for (i, v) in values.iter().enumerate() {
+        if values[..i].contains(v) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!("{option}: {v} is given more than once; give each value once"),
+            ));
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

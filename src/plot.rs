@@ -705,20 +705,6 @@ pub fn errorbar_chart_at(
 mod tests {
     use super::*;
 
-    /// The engine named by `--engine` reaches every chart title (a PNG from
-    /// the fast engine must not look like one from the reference).
-    #[test]
-    fn the_caption_note_names_the_engine() {
-        let args = crate::cli::PipeRules {
-            rules: "default".to_string(),
-            engine: Some("fast".to_string()),
-        };
-        args.engine(crate::run::Tier::Quick).unwrap();
-        assert_eq!(captioned("PH95 Fig. 12"), "PH95 Fig. 12 [fast engine]");
-        set_caption_note("");
-        assert_eq!(captioned("PH95 Fig. 12"), "PH95 Fig. 12");
-    }
-
     #[test]
     fn the_legend_goes_to_a_corner_without_points() {
         let line = |pts: Vec<(f64, f64, f64)>| [ErrSeries::new("s", pts, PALETTE[0])];

@@ -740,21 +740,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     Ok(())
 }
 
-/// Mean and standard error of the mean; the error of a single value is
-/// NaN (no spread measured, not 0: a summary lists it under
-/// `missing_metrics`, [`NO_ERROR`]), both are NaN for no values.
-pub fn mean_sem(xs: &[f64]) -> (f64, f64) {
-    let n = xs.len();
-    if n == 0 {
-        return (f64::NAN, f64::NAN);
-    }
-    let m = xs.iter().sum::<f64>() / n as f64;
-    if n < 2 {
-        return (m, f64::NAN);
-    }
-    let var = xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n as f64 - 1.0);
-    (m, (var / n as f64).sqrt())
-}
+pub use crate::analysis::stats::mean_sem;
 
 /// The difference a - b of two (value, standard error) pairs, with the
 /// errors combined in quadrature.

@@ -1,5 +1,5 @@
-//! Student's t distribution for the one-sided tests of the project (the
-//! trend test of the open pipe, `crate::pipe::open::stationarity`): the
+//! Small statistics of the project: the mean with its standard error, and
+//! Student's t distribution for the one-sided tests (the trend test of the open pipe, `crate::pipe::open::stationarity`): the
 //! upper tail probability for an integer number of degrees of freedom, in
 //! closed form (Abramowitz & Stegun 26.7.3-4), and its inverse.
 
@@ -61,6 +61,22 @@ pub fn student_t_isf(p: f64, df: usize) -> Result<f64> {
         }
     }
     Ok(0.5 * (lo + hi))
+}
+
+/// Mean and standard error of the mean; the error of a single value is
+/// NaN (no spread measured, not 0: a summary lists it under
+/// `missing_metrics`, `run::NO_ERROR`), both are NaN for no values.
+pub fn mean_sem(xs: &[f64]) -> (f64, f64) {
+    let n = xs.len();
+    if n == 0 {
+        return (f64::NAN, f64::NAN);
+    }
+    let m = xs.iter().sum::<f64>() / n as f64;
+    if n < 2 {
+        return (m, f64::NAN);
+    }
+    let var = xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n as f64 - 1.0);
+    (m, (var / n as f64).sqrt())
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@
 //! [`crate::analysis::grading`]. Each claim's published value, statistic and
 //! margin or threshold is in [`CLAIMS`]; they were fixed before measuring.
 //! Where a figure binary grades the same claim, both call the same function
-//! (`analysis::relaxation::fig3_checks`, `pipe::overlap::steep_front_check`,
+//! (`drivers::relaxation::fig3_checks`, `pipe::overlap::steep_front_check`,
 //! `width_grows_check`, `wave_speed_check`, `sweep::same_as_check`,
 //! `alpha_check`, `open_pipe::*_check`). PH95 Figs. 9-10 stay blind: no
 //! claim of them is graded here.
@@ -19,8 +19,9 @@ use super::spectra::tier_setup;
 use super::sweep::{
     alpha_check, reduce, same_as_check, sweep_run, PointResult, Quantity, SweepPoint, V_SAME_MARGIN,
 };
-use crate::analysis::relaxation::{fig3_checks, Saturation};
+use crate::analysis::relaxation::Saturation;
 use crate::analysis::spectrum::{SpectrumParams, Window};
+use crate::drivers::relaxation::fig3_checks;
 use crate::error::{ErrorKind, Result};
 use crate::pipe::engine::Engine;
 use crate::pipe::open::bisect_ic;

@@ -10,5 +10,6 @@ pub mod acceptance;
 pub mod acceptance_study;
 pub mod claims;
 pub mod open_pipe;
+pub mod relaxation;
 pub mod spectra;
 pub mod sweep;

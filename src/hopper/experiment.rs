@@ -461,7 +461,7 @@ impl Case {
     /// twice.
     pub fn parse_list(keys: &str) -> Result<Vec<Case>> {
         let keys: Vec<&str> = keys.split(',').map(str::trim).collect();
-        crate::cli::reject_duplicates("--cases", &keys)?;
+        crate::error::reject_duplicates("--cases", &keys)?;
         keys.into_iter()
             .map(|k| {
                 Case::ALL
