@@ -914,8 +914,8 @@ fn tally<'a>(rows: impl Iterator<Item = &'a Row>) -> [usize; 3] {
 /// One line per paper (and per figure of it): the default reading's
 /// published claims reproduced / not reproduced / undecided.
 fn per_paper(r: &Report) -> Vec<(String, [usize; 3])> {
+    // papers in order of first appearance
     let mut papers: Vec<String> = r.rows.iter().map(|x| x.paper.clone()).collect();
-    papers.dedup();
     let mut seen = std::collections::BTreeSet::new();
     papers.retain(|p| seen.insert(p.clone()));
     papers
