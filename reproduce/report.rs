@@ -7,7 +7,7 @@
 
 use clap::Parser;
 use granular_automata::cli::parse_threads;
-use granular_automata::report::{parse_extra, run, select, Options};
+use granular_automata::report::{parse_extra, publish, run, select, Options};
 use granular_automata::run::Tier;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -43,6 +43,11 @@ struct Args {
     /// (repeatable; appended after the report's own).
     #[arg(long, value_name = "BIN=ARGS")]
     args_for: Vec<String>,
+    /// Also write a self-contained copy to this folder (e.g. docs/report):
+    /// the pages, report.json, every summary.json, reduced pictures and the
+    /// small CSVs, a few MB in all.
+    #[arg(long)]
+    publish: Option<PathBuf>,
 }
 
 fn main() {
@@ -85,6 +90,10 @@ fn report() -> granular_automata::Result<()> {
         dir.join("REPORT.md").display(),
         dir.join("index.html").display()
     );
+    if let Some(dest) = &a.publish {
+        publish(&opts.out, &r, dest)?;
+        println!("published a copy in {}", dest.display());
+    }
     let failed: Vec<&str> = r
         .figures
         .iter()

@@ -476,6 +476,9 @@ pub struct FigureReport {
     pub seeds: Vec<u64>,
     /// wall_seconds of its summary (this invocation's analysis and runs).
     pub summary_wall_seconds: Option<f64>,
+    /// cpu_seconds of its summary: CPU of this invocation, all threads
+    /// (runs resumed from `--out` cost only their reading).
+    pub cpu_seconds: Option<f64>,
     /// Site updates of all its runs.
     pub site_updates: Option<f64>,
     /// PNG files of its folder, sorted.
@@ -497,9 +500,15 @@ pub struct Report {
     pub rows: Vec<Row>,
     /// Reproducibility stamp.
     pub stamp: Stamp,
-    /// Link from `DIR/report/` to the known-discrepancies section of
+    /// Link from the page to the known-discrepancies section of
     /// EXPERIMENTS.md.
     pub discrepancy_link: String,
+    /// Path from the page to the figures' folders: `../` beside `--out`,
+    /// empty in a published copy ([`publish`]).
+    pub figures_base: String,
+    /// Paragraphs shown under the headline (a published copy says what it
+    /// left out).
+    pub preface: Vec<String>,
 }
 
 /// What identifies a report's computation.
@@ -512,6 +521,8 @@ pub struct Stamp {
     pub commit: String,
     /// The report's command line.
     pub command_line: String,
+    /// The command that regenerates the report from a clone at `commit`.
+    pub regenerate: String,
     /// The `--seed` given ("default" when not).
     pub seed: String,
     /// Cores available.
@@ -571,6 +582,7 @@ pub fn read_figure(out: &Path, run: FigureRun) -> (FigureReport, Vec<Row>) {
         rules: String::new(),
         seeds: vec![],
         summary_wall_seconds: None,
+        cpu_seconds: None,
         site_updates: None,
         pngs: with(".png"),
         csvs: with(".csv"),
@@ -603,6 +615,7 @@ pub fn read_figure(out: &Path, run: FigureRun) -> (FigureReport, Vec<Row>) {
         .map(|a| a.iter().filter_map(Value::as_u64).collect())
         .unwrap_or_default();
     fr.summary_wall_seconds = finite(&s["wall_seconds"]);
+    fr.cpu_seconds = finite(&s["cpu_seconds"]);
     fr.site_updates = finite(&s["site_updates"]);
     let rows = s["checks"]
         .as_array()
@@ -706,6 +719,7 @@ pub fn collect(opts: &Options, runs: Vec<FigureRun>) -> Report {
             version: env!("CARGO_PKG_VERSION").to_string(),
             commit: git_commit(),
             command_line: opts.command_line.clone(),
+            regenerate: regenerate(&opts.command_line),
             seed: opts
                 .seed
                 .map_or("default of each figure (1)".into(), |s| s.to_string()),
@@ -716,13 +730,114 @@ pub fn collect(opts: &Options, runs: Vec<FigureRun>) -> Report {
             wall_seconds: 0.0,
         },
         discrepancy_link: discrepancy_link(&report_dir),
+        figures_base: "../".into(),
+        preface: vec![],
     }
 }
 
 /// Write `out/report/{REPORT.md, index.html, report.json}`.
 pub fn write(out: &Path, report: &Report) -> Result<()> {
-    let dir = out.join("report");
-    std::fs::create_dir_all(&dir).map_err(|e| {
+    write_pages(&out.join("report"), report)
+}
+
+/// Widest image of a published copy, in pixels (the figures' own PNGs
+/// are up to a few thousand pixels wide and weigh up to 2 MB each).
+pub const PUBLISH_WIDTH: u32 = 640;
+
+/// Largest CSV a published copy keeps, in bytes.
+pub const PUBLISH_CSV_BYTES: u64 = 100_000;
+
+/// Write a self-contained copy of `report` (computed in `out`) to `dest`:
+/// `REPORT.md`, `index.html` and `report.json` in `dest`, and per figure
+/// `dest/<binary>/` with its summary.json, its PNGs reduced to at most
+/// [`PUBLISH_WIDTH`] pixels wide and its CSVs of at most
+/// [`PUBLISH_CSV_BYTES`]. The page links into `dest` and says what it
+/// left out. A figure folder already in `dest` is replaced.
+pub fn publish(out: &Path, report: &Report, dest: &Path) -> Result<()> {
+    let io =
+        |what: String| move |e: std::io::Error| Error::new(ErrorKind::Io, format!("{what}: {e}"));
+    std::fs::create_dir_all(dest).map_err(io(format!("cannot create {}", dest.display())))?;
+    let mut r = report.clone();
+    r.figures_base = String::new();
+    r.discrepancy_link = discrepancy_link(dest);
+    let mut left_out = vec![];
+    for f in &mut r.figures {
+        let (src, dst) = (out.join(&f.run.binary), dest.join(&f.run.binary));
+        if dst.exists() {
+            std::fs::remove_dir_all(&dst)
+                .map_err(io(format!("cannot replace {}", dst.display())))?;
+        }
+        std::fs::create_dir_all(&dst).map_err(io(format!("cannot create {}", dst.display())))?;
+        if f.summary_problem.is_none() && f.run.ok {
+            let from = src.join("summary.json");
+            std::fs::copy(&from, dst.join("summary.json"))
+                .map_err(io(format!("cannot copy {}", from.display())))?;
+        }
+        for p in &f.pngs {
+            reduce_png(&src.join(p), &dst.join(p), PUBLISH_WIDTH)?;
+        }
+        let mut kept = vec![];
+        for c in &f.csvs {
+            let from = src.join(c);
+            let size = std::fs::metadata(&from)
+                .map_err(io(format!("cannot read {}", from.display())))?
+                .len();
+            if size <= PUBLISH_CSV_BYTES {
+                std::fs::copy(&from, dst.join(c))
+                    .map_err(io(format!("cannot copy {}", from.display())))?;
+                kept.push(c.clone());
+            } else {
+                left_out.push(format!("{}/{c} ({} kB)", f.run.binary, size / 1000));
+            }
+        }
+        f.csvs = kept;
+    }
+    r.preface.push(format!(
+        "This is a published copy: every figure's summary.json, its pictures reduced to at most {PUBLISH_WIDTH} px wide, and its CSVs of at most {} kB{}. The regenerate command writes them all at full size.",
+        PUBLISH_CSV_BYTES / 1000,
+        if left_out.is_empty() {
+            String::new()
+        } else {
+            format!(" (left out: {})", left_out.join(", "))
+        }
+    ));
+    write_pages(dest, &r)
+}
+
+/// Copy PNG `from` to `to`, reduced to at most `width` pixels wide (its
+/// aspect kept; a narrower image is copied as it is).
+fn reduce_png(from: &Path, to: &Path, width: u32) -> Result<()> {
+    use image::ImageEncoder;
+    let bad = |e: String| {
+        Error::new(
+            ErrorKind::Io,
+            format!("cannot reduce {}: {e}", from.display()),
+        )
+    };
+    let img = image::open(from).map_err(|e| bad(e.to_string()))?;
+    if img.width() <= width {
+        std::fs::copy(from, to).map_err(|e| bad(e.to_string()))?;
+        return Ok(());
+    }
+    let height =
+        (u64::from(img.height()) * u64::from(width) / u64::from(img.width())).max(1) as u32;
+    let small = img
+        .resize_exact(width, height, image::imageops::FilterType::Triangle)
+        .to_rgb8();
+    let mut bytes = vec![];
+    image::codecs::png::PngEncoder::new_with_quality(
+        &mut bytes,
+        image::codecs::png::CompressionType::Best,
+        image::codecs::png::FilterType::Adaptive,
+    )
+    .write_image(&small, width, height, image::ColorType::Rgb8)
+    .map_err(|e| bad(e.to_string()))?;
+    write_atomic(to, &bytes)
+}
+
+/// Write `dir/{REPORT.md, index.html, report.json}`.
+fn write_pages(dir: &Path, report: &Report) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| {
         Error::new(
             ErrorKind::Io,
             format!("cannot create {}: {e}; choose another --out", dir.display()),
@@ -950,6 +1065,11 @@ pub fn markdown(r: &Report) -> String {
         r.stamp.version, r.tier
     );
     let _ = writeln!(m, "{}\n", headline(r));
+    let _ = writeln!(m, "{}\n", top_stamp(r).replace('`', "'"));
+    let _ = writeln!(m, "Regenerate: `{}`\n", r.stamp.regenerate);
+    for p in &r.preface {
+        let _ = writeln!(m, "{p}\n");
+    }
     let _ = writeln!(m, "- checks by verdict: {}", list(&c.verdicts));
     let _ = writeln!(m, "- checks by kind: {}", list(&c.kinds));
     let _ = writeln!(m, "- figures: {}\n", r.figures.len());
@@ -988,18 +1108,20 @@ pub fn markdown(r: &Report) -> String {
     }
     let _ = writeln!(
         m,
-        "\n| figure | paper | reproduced | not reproduced | undecided | status | wall time |"
+        "\n| figure | paper | reproduced | not reproduced | undecided | status | CPU (this invocation) | wall time |"
     );
-    let _ = writeln!(m, "|---|---|---|---|---|---|---|");
+    let _ = writeln!(m, "|---|---|---|---|---|---|---|---|");
     for f in &r.figures {
         let [y, n, u] = tally(r.rows.iter().filter(|x| x.binary == f.run.binary));
         let _ = writeln!(
             m,
-            "| [`{b}`](../{b}/) | {} | {y} | {n} | {u} | {} | {:.1} s {TIMING_MARK} |",
+            "| [`{b}`]({base}{b}/) | {} | {y} | {n} | {u} | {} | {} | {:.1} s {TIMING_MARK} |",
             f.paper,
             status(f),
+            cpu(f.cpu_seconds),
             f.run.wall_seconds,
-            b = f.run.binary
+            b = f.run.binary,
+            base = r.figures_base
         );
     }
     let d = discrepancies(r);
@@ -1100,12 +1222,17 @@ pub fn markdown(r: &Report) -> String {
     {
         let _ = writeln!(m, "### {} (`{}`)\n", f.paper, f.run.binary);
         for p in &f.pngs {
-            let _ = writeln!(m, "[![{p}](../{0}/{p})](../{0}/{p})", f.run.binary);
+            let _ = writeln!(
+                m,
+                "[![{p}]({base}{0}/{p})]({base}{0}/{p})",
+                f.run.binary,
+                base = r.figures_base
+            );
         }
         let csv: Vec<String> = f
             .csvs
             .iter()
-            .map(|c| format!("[{c}](../{}/{c})", f.run.binary))
+            .map(|c| format!("[{c}]({}{}/{c})", r.figures_base, f.run.binary))
             .collect();
         if !csv.is_empty() {
             let _ = writeln!(m, "\nData: {}", csv.join(", "));
@@ -1132,12 +1259,49 @@ fn status(f: &FigureReport) -> String {
     }
 }
 
+/// CPU seconds of the figures' summaries together (this invocation).
+fn total_cpu(r: &Report) -> Option<f64> {
+    let c: Vec<f64> = r.figures.iter().filter_map(|f| f.cpu_seconds).collect();
+    (!c.is_empty()).then(|| c.iter().sum())
+}
+
+/// CPU seconds as text ("n/a" when absent).
+fn cpu(x: Option<f64>) -> String {
+    x.map_or("n/a".into(), |c| format!("{c:.0} s"))
+}
+
+/// The one-line stamp at the top of the page (the full one ends it).
+fn top_stamp(r: &Report) -> String {
+    format!(
+        "Stamp: commit {}, {} tier, {} cores (--threads {}), CPU {} in this invocation (runs resumed from --out count only their reading); the full stamp ends the page.",
+        r.stamp.commit,
+        r.tier,
+        r.stamp.cores,
+        r.stamp.threads,
+        cpu(total_cpu(r))
+    )
+}
+
+/// The command that regenerates a report run as `command_line`: build,
+/// then the same arguments from the clone's `target/release/`.
+pub fn regenerate(command_line: &str) -> String {
+    let args: Vec<&str> = command_line.split_whitespace().skip(1).collect();
+    format!(
+        "cargo build --release --bins && target/release/report {}",
+        args.join(" ")
+    )
+    .trim_end()
+    .to_string()
+}
+
 fn stamp_lines(r: &Report) -> Vec<(&'static str, String)> {
     let s = &r.stamp;
     let mut v = vec![
         ("crate version", s.version.clone()),
         ("git commit", s.commit.clone()),
         ("command", s.command_line.clone()),
+        ("regenerate", s.regenerate.clone()),
+        ("CPU of the figures in this invocation", cpu(total_cpu(r))),
         ("tier", r.tier.clone()),
         ("--seed", s.seed.clone()),
         ("--threads", s.threads.clone()),
@@ -1184,6 +1348,7 @@ img.thumb{width:96px;height:64px;object-fit:contain;border:1px solid #eee}
 /// relative links to the figures' PNGs and CSVs).
 pub fn html(r: &Report) -> String {
     let c = counts(r);
+    let base = esc(&r.figures_base);
     let mut h = String::new();
     let title = format!(
         "Reproduction report: granular-automata {}, {} tier",
@@ -1193,6 +1358,15 @@ pub fn html(r: &Report) -> String {
     let _ = writeln!(h, "<h1>{}</h1>", esc(&title));
     let head = esc(&headline(r));
     let _ = writeln!(h, "<p class=\"headline\">{}</p>", code_spans(&head));
+    let _ = writeln!(h, "<p class=\"small\">{}</p>", esc(&top_stamp(r)));
+    let _ = writeln!(
+        h,
+        "<p class=\"small\">Regenerate: <code>{}</code></p>",
+        esc(&r.stamp.regenerate)
+    );
+    for p in &r.preface {
+        let _ = writeln!(h, "<p class=\"small\">{}</p>", code_spans(&esc(p)));
+    }
     let _ = writeln!(
         h,
         "<p>Checks by verdict: {}. By kind: {}.</p>",
@@ -1225,12 +1399,12 @@ pub fn html(r: &Report) -> String {
             esc(&p)
         );
     }
-    let _ = writeln!(h, "</tbody>\n</table></div>\n<div class=\"scroll\"><table>\n<thead><tr><th></th><th>figure</th><th>reproduced</th><th>not</th><th>undecided</th><th>wall time</th></tr></thead>\n<tbody>");
+    let _ = writeln!(h, "</tbody>\n</table></div>\n<div class=\"scroll\"><table>\n<thead><tr><th></th><th>figure</th><th>reproduced</th><th>not</th><th>undecided</th><th>CPU (this invocation)</th><th>wall time</th></tr></thead>\n<tbody>");
     for f in &r.figures {
         let [y, n, u] = tally(r.rows.iter().filter(|x| x.binary == f.run.binary));
         let thumb = f.pngs.first().map_or(String::new(), |p| {
             format!(
-                "<a href=\"#fig-{b}\"><img class=\"thumb\" src=\"../{b}/{}\" alt=\"{}\"></a>",
+                "<a href=\"#fig-{b}\"><img class=\"thumb\" src=\"{base}{b}/{}\" alt=\"{}\"></a>",
                 esc(p),
                 esc(p),
                 b = esc(&f.run.binary)
@@ -1238,9 +1412,10 @@ pub fn html(r: &Report) -> String {
         });
         let _ = writeln!(
             h,
-            "<tr {HTML_TIMING_MARK} class=\"{}\"><td>{thumb}</td><td><a href=\"#fig-{b}\"><code>{b}</code></a><br><span class=\"small\">{}</span></td><td class=\"num\">{y}</td><td class=\"num\">{n}</td><td class=\"num\">{u}</td><td class=\"num\">{:.1} s</td></tr>",
+            "<tr {HTML_TIMING_MARK} class=\"{}\"><td>{thumb}</td><td><a href=\"#fig-{b}\"><code>{b}</code></a><br><span class=\"small\">{}</span></td><td class=\"num\">{y}</td><td class=\"num\">{n}</td><td class=\"num\">{u}</td><td class=\"num\">{}</td><td class=\"num\">{:.1} s</td></tr>",
             if f.run.ok { "" } else { "not-reproduced" },
             esc(&f.paper),
+            cpu(f.cpu_seconds),
             f.run.wall_seconds,
             b = esc(&f.run.binary)
         );
@@ -1281,7 +1456,7 @@ pub fn html(r: &Report) -> String {
         for x in rows {
             let _ = writeln!(
                 h,
-                "<tr class=\"{v}\"><td>{}</td><td>{} <a href=\"../{b}/\"><code>{b}</code></a></td><td title=\"{}\"><code>{}</code>: {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"v\">{v}</td><td>{}</td><td title=\"{}\"><code>{}</code></td><td class=\"num\">{}</td></tr>",
+                "<tr class=\"{v}\"><td>{}</td><td>{} <a href=\"{base}{b}/\"><code>{b}</code></a></td><td title=\"{}\"><code>{}</code>: {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"v\">{v}</td><td>{}</td><td title=\"{}\"><code>{}</code></td><td class=\"num\">{}</td></tr>",
                 esc(&x.paper),
                 esc(&x.figure),
                 esc(&x.note),
@@ -1335,7 +1510,7 @@ pub fn html(r: &Report) -> String {
         let csv: Vec<String> = f
             .csvs
             .iter()
-            .map(|c| format!("<a href=\"../{b}/{0}\">{0}</a>", esc(c)))
+            .map(|c| format!("<a href=\"{base}{b}/{0}\">{0}</a>", esc(c)))
             .collect();
         let data = if csv.is_empty() {
             String::new()
@@ -1363,7 +1538,7 @@ pub fn html(r: &Report) -> String {
                 let p = esc(p);
                 let _ = write!(
                     h,
-                    "<a href=\"../{b}/{p}\"><img src=\"../{b}/{p}\" alt=\"{p}\" title=\"{p}\" loading=\"lazy\"></a><p class=\"small\"><a href=\"../{b}/{p}\">{p}</a>{data}</p>"
+                    "<a href=\"{base}{b}/{p}\"><img src=\"{base}{b}/{p}\" alt=\"{p}\" title=\"{p}\" loading=\"lazy\"></a><p class=\"small\"><a href=\"{base}{b}/{p}\">{p}</a>{data}</p>"
                 );
             } else {
                 let _ = write!(h, "<p class=\"small\">{}</p>", &data[4..]);
@@ -1546,6 +1721,41 @@ mod tests {
         };
         assert!(figure_args(&opts, "fig2").ends_with(&["--engine".into(), "fast".into()]));
         assert!(!figure_args(&opts, "hopper-fig3").contains(&"--engine".to_string()));
+    }
+
+    #[test]
+    fn regenerate_keeps_the_arguments() {
+        assert_eq!(
+            regenerate("/somewhere/target/release/report --tier acceptance --out suite"),
+            "cargo build --release --bins && target/release/report --tier acceptance --out suite"
+        );
+        assert_eq!(
+            regenerate("report"),
+            "cargo build --release --bins && target/release/report"
+        );
+    }
+
+    #[test]
+    fn a_published_picture_is_reduced() {
+        let dir = std::env::temp_dir().join(format!("ga-reduce-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (big, small) = (dir.join("big.png"), dir.join("small.png"));
+        image::RgbImage::from_pixel(2000, 1000, image::Rgb([10, 200, 30]))
+            .save(&big)
+            .unwrap();
+        reduce_png(&big, &small, PUBLISH_WIDTH).unwrap();
+        let img = image::open(&small).unwrap();
+        assert_eq!(
+            (img.width(), img.height()),
+            (PUBLISH_WIDTH, PUBLISH_WIDTH / 2)
+        );
+        // a narrow picture is copied as it is
+        reduce_png(&small, &dir.join("copy.png"), PUBLISH_WIDTH).unwrap();
+        assert_eq!(
+            std::fs::read(&small).unwrap(),
+            std::fs::read(dir.join("copy.png")).unwrap()
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
