@@ -801,6 +801,12 @@ pub fn publish(out: &Path, report: &Report, dest: &Path) -> Result<()> {
             format!(" (left out: {})", left_out.join(", "))
         }
     ));
+    if dest.join("README.md").is_file() {
+        r.preface.push(
+            "The CPU column counts only this invocation, which resumed saved runs; the cost of computing everything from nothing is in README.md beside this page."
+                .into(),
+        );
+    }
     write_pages(dest, &r)
 }
 
