@@ -1,0 +1,180 @@
+//! The committed reference report (`docs/report/`, written by
+//! `report --tier acceptance --engine fast --publish docs/report`) stays
+//! honest: every row's verdict is that of its figure's summary.json, it
+//! covers every figure binary, its stamp names a commit of this history,
+//! and README's headline table is the report's.
+
+use granular_automata::report::{default_figures, PUBLISH_WIDTH};
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/report")
+}
+
+fn json(path: &Path) -> Value {
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn report() -> Value {
+    json(&dir().join("report.json"))
+}
+
+#[test]
+fn every_row_is_its_summary() {
+    let r = report();
+    let rows = r["rows"].as_array().expect("rows");
+    assert!(!rows.is_empty());
+    let mut summaries: BTreeMap<String, Value> = BTreeMap::new();
+    for row in rows {
+        let b = row["binary"].as_str().unwrap().to_string();
+        let s = summaries
+            .entry(b.clone())
+            .or_insert_with(|| json(&dir().join(&b).join("summary.json")));
+        let name = row["name"].as_str().unwrap();
+        let c = s["checks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["name"] == name)
+            .unwrap_or_else(|| panic!("{b}: no check {name} in its summary.json"));
+        assert_eq!(row["verdict"], c["verdict"], "{b} {name}: verdict");
+        assert_eq!(row["kind"], c["kind"], "{b} {name}: kind");
+        assert_eq!(row["measured"], c["measured"], "{b} {name}: measured");
+    }
+    // and every check of every summary is a row
+    for (b, s) in &summaries {
+        let n = s["checks"].as_array().unwrap().len();
+        let m = rows.iter().filter(|x| x["binary"] == b.as_str()).count();
+        assert_eq!(n, m, "{b}: {n} checks in summary.json, {m} rows");
+    }
+}
+
+#[test]
+fn covers_every_figure_binary_at_the_published_set_ups() {
+    let r = report();
+    assert_eq!(r["tier"], "acceptance");
+    let figures: Vec<&str> = r["figures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["run"]["binary"].as_str().unwrap())
+        .collect();
+    for b in default_figures() {
+        assert!(figures.contains(&b), "the committed report lacks {b}");
+        assert!(
+            dir().join(b).join("summary.json").is_file(),
+            "docs/report/{b}/summary.json is missing"
+        );
+    }
+    for f in r["figures"].as_array().unwrap() {
+        let b = f["run"]["binary"].as_str().unwrap();
+        assert_eq!(f["run"]["ok"], true, "{b} failed in the committed report");
+        assert_eq!(f["tier"], "acceptance", "{b}: tier of its summary");
+        for p in f["pngs"].as_array().unwrap() {
+            assert!(dir().join(b).join(p.as_str().unwrap()).is_file(), "{b}/{p}");
+        }
+    }
+}
+
+#[test]
+fn stamp_is_a_commit_of_this_history() {
+    let r = report();
+    let commit = r["stamp"]["commit"].as_str().unwrap();
+    assert!(
+        commit.len() == 40 && commit.chars().all(|c| c.is_ascii_hexdigit()),
+        "the stamp's commit {commit:?} is not a clean commit (a report from a modified tree cannot be regenerated)"
+    );
+    let ok = Command::new("git")
+        .args(["-C", env!("CARGO_MANIFEST_DIR")])
+        .args(["merge-base", "--is-ancestor", commit, "HEAD"])
+        .status()
+        .expect("git is needed to check the stamp");
+    assert!(
+        ok.success(),
+        "stamp commit {commit} is not an ancestor of HEAD"
+    );
+    let regen = r["stamp"]["regenerate"].as_str().unwrap();
+    for page in ["REPORT.md", "index.html"] {
+        let text = std::fs::read_to_string(dir().join(page)).unwrap();
+        // the top: everything above the overview
+        let top = &text[..text.find("Overview").expect("an overview")];
+        assert!(top.contains(commit), "{page}: stamp not at the top");
+        assert!(
+            top.contains(&regen.replace('&', "&amp;")) || top.contains(regen),
+            "{page}: regenerate command not at the top"
+        );
+    }
+}
+
+#[test]
+fn stays_a_few_megabytes() {
+    fn size(p: &Path) -> u64 {
+        if p.is_dir() {
+            std::fs::read_dir(p)
+                .unwrap()
+                .map(|e| size(&e.unwrap().path()))
+                .sum()
+        } else {
+            p.metadata().unwrap().len()
+        }
+    }
+    let bytes = size(&dir());
+    assert!(bytes < 8_000_000, "docs/report weighs {bytes} bytes");
+    // pictures are reduced
+    for f in report()["figures"].as_array().unwrap() {
+        let b = f["run"]["binary"].as_str().unwrap();
+        for p in f["pngs"].as_array().unwrap() {
+            let path = dir().join(b).join(p.as_str().unwrap());
+            let img = image::open(&path).unwrap();
+            assert!(img.width() <= PUBLISH_WIDTH, "{}", path.display());
+        }
+    }
+}
+
+/// README's headline table (per paper: reproduced / not / undecided) is
+/// the committed report's.
+#[test]
+fn readme_headline_is_the_report() {
+    let r = report();
+    let mut per_paper: Vec<(String, [usize; 3])> = vec![];
+    for row in r["rows"].as_array().unwrap() {
+        let published = row["kind"] == "published"
+            || (row["kind"] == "unstated" && !row["published"].is_null());
+        if !published || !row["reading"].is_null() {
+            continue;
+        }
+        let paper = row["paper"].as_str().unwrap().to_string();
+        let i = match row["verdict"].as_str().unwrap() {
+            "reproduced" => 0,
+            "not-reproduced" => 1,
+            _ => 2,
+        };
+        match per_paper.iter_mut().find(|(p, _)| *p == paper) {
+            Some((_, t)) => t[i] += 1,
+            None => {
+                let mut t = [0; 3];
+                t[i] = 1;
+                per_paper.push((paper, t));
+            }
+        }
+    }
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let first: String = readme.lines().take(60).collect::<Vec<_>>().join("\n");
+    assert!(
+        first.contains("docs/report/index.html") || first.contains("docs/report/REPORT.md"),
+        "README's first screen does not link the committed report"
+    );
+    for (p, [y, n, u]) in per_paper {
+        let line = format!("| {p} | {y} | {n} | {u} |");
+        assert!(
+            first.contains(&line),
+            "README's headline lacks `{line}` (from docs/report/report.json)"
+        );
+    }
+}
