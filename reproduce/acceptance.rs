@@ -10,7 +10,7 @@ use granular_automata::cli::Common;
 use granular_automata::drivers::acceptance::margin;
 use granular_automata::drivers::acceptance_study::{open_choice_values, pilot, runs_to_decide};
 use granular_automata::drivers::spectra::{bin_series, resumable_ensemble, tier_setup};
-use granular_automata::pipe::engine::Engine;
+use granular_automata::pipe::Engine;
 use granular_automata::pipe::{Params, Rules};
 use granular_automata::run::{derive_seed, ensemble_with_threads, write_atomic};
 use std::path::PathBuf;

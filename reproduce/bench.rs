@@ -5,7 +5,7 @@
 //! of waves-fig12 (open pipe just below I_c, PH95 Fig. 12). `cargo run
 //! --release --bin bench`
 use clap::Parser;
-use granular_automata::pipe::engine::Engine;
+use granular_automata::pipe::Engine;
 use granular_automata::pipe::{Boundary, Params, Rules};
 use std::time::Instant;
 

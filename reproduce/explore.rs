@@ -7,9 +7,9 @@
 
 use clap::Parser;
 use granular_automata::cli::{check_populated, check_steps, parse_runs, PipeRules};
-use granular_automata::pipe::engine::Engine;
 use granular_automata::pipe::record::{bands, record};
 use granular_automata::pipe::stops::{count_stops, COUNTED};
+use granular_automata::pipe::Engine;
 use granular_automata::pipe::Params;
 use granular_automata::run::{derive_seed, ensemble};
 

@@ -6,7 +6,7 @@
 //! `cargo run --release --bin fig2 -- --tier quick`
 
 use granular_automata::cli::PipeArgs;
-use granular_automata::drivers::claims::{ALPHA_MARGIN, V_MARGIN};
+use granular_automata::drivers::margins::{ALPHA_MARGIN, V_MARGIN};
 use granular_automata::drivers::spectra::{run_figure, SpectrumFigure};
 use granular_automata::pipe::Params;
 

@@ -10,7 +10,7 @@ use clap::Parser;
 use granular_automata::analysis::grading::{Claim, Estimate, Kind};
 use granular_automata::analysis::spectrum::frequency;
 use granular_automata::cli::Common;
-use granular_automata::drivers::claims::ALPHA_MARGIN;
+use granular_automata::drivers::margins::ALPHA_MARGIN;
 use granular_automata::hopper::experiment::{
     analyse_outflow, lag_correlation, open_window_rates, run_cases,
 };

@@ -14,7 +14,7 @@ use granular_automata::drivers::claims::{
     grade_groups, grade_steps, site_updates, Graded, Group, MatrixSize, Verdict, CLAIMS,
     GRADING_VERSION,
 };
-use granular_automata::pipe::engine::Engine;
+use granular_automata::pipe::Engine;
 use granular_automata::pipe::Rules;
 use granular_automata::plot::{plot_err, register_fonts, FONT};
 use granular_automata::run::{progress, write_atomic, Check, Output, Summary};

@@ -61,7 +61,7 @@ fn report() -> granular_automata::Result<()> {
     let a = Args::parse();
     let figures = select(a.only.as_deref())?;
     if let Some(e) = &a.engine {
-        e.parse::<granular_automata::pipe::engine::Engine>()?;
+        e.parse::<granular_automata::pipe::Engine>()?;
     }
     let mut extra = BTreeMap::new();
     for spec in &a.args_for {

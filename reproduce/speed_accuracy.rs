@@ -8,7 +8,7 @@
 
 use clap::Parser;
 use granular_automata::cli::parse_threads;
-use granular_automata::pipe::engine::Engine;
+use granular_automata::pipe::Engine;
 use granular_automata::run::Tier;
 use granular_automata::speed::{measure, recommend, select_keys, write, Plan};
 use std::path::PathBuf;

@@ -17,7 +17,7 @@
 use clap::Parser;
 use granular_automata::analysis::grading::{Kind, Verdict};
 use granular_automata::cli::{Common, PipeArgs};
-use granular_automata::drivers::claims::ALPHA_MARGIN;
+use granular_automata::drivers::margins::ALPHA_MARGIN;
 use granular_automata::drivers::open_pipe::{
     clogs_check, ic_check, ic_independence_check, CLOG_INJECT, TREND_EVERY,
 };
@@ -26,10 +26,10 @@ use granular_automata::drivers::sweep::{
     alpha_check, header, point_metrics, run_sweep, site_updates, PointResult, SweepPoint,
 };
 use granular_automata::ensemble::Outcome;
-use granular_automata::pipe::engine::Engine;
 use granular_automata::pipe::open::{
     bisect_ic, open_run, stationarity, trend_threshold, PipeSize, Stationarity, TREND_FALSE_ALARM,
 };
+use granular_automata::pipe::Engine;
 use granular_automata::pipe::{Boundary, Params, Rules};
 use granular_automata::plot::{errorbar_chart, line_chart, ErrSeries, Line, PALETTE};
 use granular_automata::run::{derive_seed, mark_discrepancies, Check, Output, Summary};

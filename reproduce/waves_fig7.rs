@@ -9,7 +9,7 @@ use granular_automata::analysis::grading::Claim;
 use granular_automata::analysis::mean_spectrum::{alpha_of_mean, v_of_mean};
 use granular_automata::cli::PipeArgs;
 use granular_automata::drivers::acceptance::margin;
-use granular_automata::drivers::claims::ALPHA_MARGIN;
+use granular_automata::drivers::margins::ALPHA_MARGIN;
 use granular_automata::drivers::spectra::{
     resumable_ensemble, spectra_chart, spectrum_lines, spectrum_rows, tier_setup, SpectrumEnsemble,
     SpectrumSetup, DISCREPANCY,

@@ -9,10 +9,10 @@
 
 use clap::Parser;
 use granular_automata::cli::PipeArgs;
-use granular_automata::drivers::claims::ALPHA_MARGIN;
+use granular_automata::drivers::margins::{ALPHA_MARGIN, V_SAME_MARGIN};
 use granular_automata::drivers::sweep::{
     fig7_check, plot_alpha_v, points_1d, rise_check, same_as_check, Curve, Quantity, SweepFigure,
-    FIG7_QUICK_ALPHA_P0, V_SAME_MARGIN,
+    FIG7_QUICK_ALPHA_P0,
 };
 use granular_automata::pipe::Params;
 use serde_json::json;

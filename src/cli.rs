@@ -178,13 +178,13 @@ impl PipeRules {
     /// Parse `--engine` (when absent: `fast` at the acceptance tier,
     /// `reference` at the others); the chart titles drawn from then on name
     /// it (`[reference engine]`, `[fast engine]`).
-    pub fn engine(&self, tier: Tier) -> crate::Result<crate::pipe::engine::Engine> {
+    pub fn engine(&self, tier: Tier) -> crate::Result<crate::pipe::Engine> {
         let default = if tier.is_acceptance() {
             "fast"
         } else {
             "reference"
         };
-        let e: crate::pipe::engine::Engine = self.engine.as_deref().unwrap_or(default).parse()?;
+        let e: crate::pipe::Engine = self.engine.as_deref().unwrap_or(default).parse()?;
         crate::plot::set_caption_note(&format!("{e} engine"));
         Ok(e)
     }

@@ -71,7 +71,7 @@ pub const KEYS: [Key; 5] = [
         figure: "fig2",
         source: Source::Check("alpha"),
         what: "PH94 Fig. 2: alpha, margin 0.1",
-        scale: crate::drivers::claims::ALPHA_MARGIN,
+        scale: crate::drivers::margins::ALPHA_MARGIN,
         pipe: true,
         args: &[],
     },
@@ -87,7 +87,7 @@ pub const KEYS: [Key; 5] = [
         figure: "waves-fig8",
         source: Source::Metric("alpha_p0.5"),
         what: "PH95 Fig. 8: alpha at p = 0.5, margin 0.1",
-        scale: crate::drivers::claims::ALPHA_MARGIN,
+        scale: crate::drivers::margins::ALPHA_MARGIN,
         pipe: true,
         args: &["--p", "0,0.5"],
     },
@@ -288,7 +288,7 @@ pub fn measure(plan: &Plan) -> Result<Vec<Point>> {
                     .join(format!("{}-{engine}", tier.name()));
                 // a summary of another revision of the engine is run again
                 let label = if key.pipe {
-                    engine.parse::<crate::pipe::engine::Engine>()?.label()
+                    engine.parse::<crate::pipe::Engine>()?.label()
                 } else {
                     "reference".to_string()
                 };

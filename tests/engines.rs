@@ -7,95 +7,44 @@
 
 mod common;
 use common::{contradicted, metric, pass, run_figure};
-use granular_automata::pipe::engine::{Engine, EngineBuilder, Reference};
+use granular_automata::pipe::engine::{EngineBuilder, Reference};
 use granular_automata::pipe::fast::Fast;
+use granular_automata::pipe::Engine;
 use granular_automata::pipe::{Boundary, Params, Rules};
 use granular_automata::validate::mutants::MUTANTS;
 use std::process::Command;
 
 /// (binary, executable, the cheapest arguments that exercise it, a file it
-/// must write)
+/// must write); the arguments are written as one string, split at spaces.
+macro_rules! figure {
+    ($bin:literal, $args:literal, $file:literal) => {
+        (
+            $bin,
+            env!(concat!("CARGO_BIN_EXE_", $bin)),
+            $args.split(' ').collect::<Vec<&'static str>>(),
+            $file,
+        )
+    };
+}
+
+/// Every pipe figure, as [`figure!`] writes it.
 fn figures() -> Vec<(&'static str, &'static str, Vec<&'static str>, &'static str)> {
     vec![
-        (
-            "fig1",
-            env!("CARGO_BIN_EXE_fig1"),
-            vec!["--runs", "1"],
-            "fig1.png",
-        ),
-        (
-            "waves-fig2",
-            env!("CARGO_BIN_EXE_waves-fig2"),
-            vec!["--runs", "1"],
-            "summary.json",
-        ),
-        (
-            "waves-fig3",
-            env!("CARGO_BIN_EXE_waves-fig3"),
-            vec!["--runs", "1", "--steps", "2000"],
-            "summary.json",
-        ),
-        (
-            "waves-fig4",
-            env!("CARGO_BIN_EXE_waves-fig4"),
-            vec!["--runs", "1", "--lengths", "128"],
-            "summary.json",
-        ),
-        (
-            "waves-fig5",
-            env!("CARGO_BIN_EXE_waves-fig5"),
-            vec!["--runs", "1", "--length", "128"],
-            "summary.json",
-        ),
-        (
-            "waves-fig6",
-            env!("CARGO_BIN_EXE_waves-fig6"),
-            vec!["--runs", "1"],
-            "summary.json",
-        ),
-        (
-            "waves-fig7",
-            env!("CARGO_BIN_EXE_waves-fig7"),
-            vec!["--runs", "1"],
-            "summary.json",
-        ),
-        (
-            "waves-fig8",
-            env!("CARGO_BIN_EXE_waves-fig8"),
-            vec!["--runs", "1", "--p", "0,0.5"],
-            "summary.json",
-        ),
-        (
-            "waves-fig9",
-            env!("CARGO_BIN_EXE_waves-fig9"),
-            vec!["--runs", "1", "--rho", "1.4"],
-            "summary.json",
-        ),
-        (
-            "waves-fig10",
-            env!("CARGO_BIN_EXE_waves-fig10"),
-            vec!["--runs", "1"],
-            "summary.json",
-        ),
-        (
-            "waves-fig11",
-            env!("CARGO_BIN_EXE_waves-fig11"),
-            vec!["--runs", "1", "--correlation-only"],
-            "summary.json",
-        ),
-        (
+        figure!("fig1", "--runs 1", "fig1.png"),
+        figure!("waves-fig2", "--runs 1", "summary.json"),
+        figure!("waves-fig3", "--runs 1 --steps 2000", "summary.json"),
+        figure!("waves-fig4", "--runs 1 --lengths 128", "summary.json"),
+        figure!("waves-fig5", "--runs 1 --length 128", "summary.json"),
+        figure!("waves-fig6", "--runs 1", "summary.json"),
+        figure!("waves-fig7", "--runs 1", "summary.json"),
+        figure!("waves-fig8", "--runs 1 --p 0,0.5", "summary.json"),
+        figure!("waves-fig9", "--runs 1 --rho 1.4", "summary.json"),
+        figure!("waves-fig10", "--runs 1", "summary.json"),
+        figure!("waves-fig11", "--runs 1 --correlation-only", "summary.json"),
+        figure!(
             "waves-fig12",
-            env!("CARGO_BIN_EXE_waves-fig12"),
-            vec![
-                "--runs",
-                "1",
-                "--sizes",
-                "220x11",
-                "--no-spectra",
-                "--bisections",
-                "3",
-            ],
-            "summary.json",
+            "--runs 1 --sizes 220x11 --no-spectra --bisections 3",
+            "summary.json"
         ),
     ]
 }

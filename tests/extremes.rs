@@ -9,43 +9,15 @@
 //! estimator on synthetic 1/f^alpha series, a single spike and white noise.
 //! Hopper: outlet 1 and outlet = base; energy parameters at their extremes.
 
+mod common;
+
+use common::models::all_rules;
 use granular_automata::error::ErrorKind;
 use granular_automata::lattice::{neighbour, velocity_int};
-use granular_automata::pipe::{Boundary, GravityWording, Params, Pipe, RestPlacement, Rules};
+use granular_automata::pipe::{Boundary, GravityWording, Params, Pipe, Rules};
 use granular_automata::run::derive_seed;
 
 const SEED: u64 = 16;
-
-/// Every rule reading (the 96 combinations of the rule switches).
-fn all_rules() -> Vec<Rules> {
-    let mut v = Vec::new();
-    for gravity in [
-        GravityWording::Ph94,
-        GravityWording::AnyMover,
-        GravityWording::UpToRest,
-    ] {
-        for wall_drag in [false, true] {
-            for gravity_first in [false, true] {
-                for rest in [RestPlacement::RandomWalk, RestPlacement::RestUp] {
-                    for wall_move in [false, true] {
-                        for rest_slide in [false, true] {
-                            v.push(Rules {
-                                gravity,
-                                wall_drag,
-                                gravity_first,
-                                rest,
-                                wall_move,
-                                rest_slide,
-                                ..Rules::MODEL_MD
-                            });
-                        }
-                    }
-                }
-            }
-        }
-    }
-    v
-}
 
 /// Twice the total vertical momentum (integer units of `velocity_int`).
 fn vertical_momentum(pipe: &Pipe) -> i64 {
@@ -420,53 +392,15 @@ mod spectra {
 }
 
 mod hopper {
-    use granular_automata::hopper::energy::{motion, orientation, state};
-    use granular_automata::hopper::model::{grain_state, is_grain};
+    use crate::common::models::reference_energy;
+    use granular_automata::hopper::energy::state;
+    use granular_automata::hopper::model::is_grain;
     use granular_automata::hopper::{Aligned, EnergyParams, EnergyTable, Hopper, HopperParams};
-    use granular_automata::lattice::velocity;
 
     const SEED: u64 = 16_1990;
 
     /// A named change of the energy parameters.
     type Extreme = (&'static str, fn(&mut EnergyParams));
-
-    /// E_i of MODEL.md B4 from the vectors and powers (the slow, obvious
-    /// reference of tests/hopper_model.rs, repeated here).
-    fn reference_energy(h: &Hopper, i: usize, s: usize) -> f64 {
-        let p = h.params().energy;
-        let g = h.geometry();
-        let sites = h.sites();
-        let hole = |j: u32| j != u32::MAX && sites[j as usize] == 0;
-        let nb = g.nbr[i];
-        let below = hole(nb[2]) || hole(nb[3]) || hole(nb[4]);
-        let v = motion(s);
-        let mut e = if below && !(3..=5).contains(&v) {
-            p.delta
-        } else {
-            0.0
-        };
-        for (k, &j) in nb.iter().enumerate() {
-            if j == u32::MAX || !is_grain(sites[j as usize]) {
-                continue;
-            }
-            let sn = grain_state(sites[j as usize]);
-            let (a, b) = (velocity(v), velocity(motion(sn)));
-            let shear = ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt() + 0.1;
-            let same = orientation(s) == orientation(sn);
-            let along = |m: usize| m != 0 && (m - 1) % 3 == orientation(s);
-            let aligned = match p.aligned {
-                Aligned::SameOrientation => same,
-                Aligned::AlongVelocity => same && (along(v) || along(motion(sn))),
-                // the neighbour lies in direction k + 1, along axis k mod 3
-                Aligned::AlongBond => same && k % 3 == orientation(s),
-            };
-            let orient = if aligned { p.s } else { 1.0 };
-            let d = 0.5 * (h.spacing()[i] + h.spacing()[j as usize]);
-            let dil = if d <= 1.0 / (1.0 - p.c) { 1.0 / d } else { 0.2 };
-            e += shear.powf(p.alpha) * orient.powf(p.beta) * dil.powf(p.gamma);
-        }
-        e
-    }
 
     /// The energy parameters at their extremes: Delta = 0, alpha = gamma =
     /// 0, beta = 0 and beta = 20 (the largest allowed) with the smallest S

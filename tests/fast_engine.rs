@@ -32,15 +32,9 @@ impl Certain {
 }
 
 impl Draws for Certain {
-    fn chance(&mut self, t: u64) -> bool {
-        if t == 0 {
-            false
-        } else if t >= 1 << 32 {
-            true
-        } else {
-            self.choice();
-            false
-        }
+    fn uncertain(&mut self, _t: u64) -> bool {
+        self.choice();
+        false
     }
     fn pick(&mut self, _cumulative: &[u64]) -> usize {
         self.choice();

@@ -3,10 +3,11 @@
 //! seed), the tabulated energy equals the formula of MODEL.md B4 evaluated
 //! the slow, obvious way, and bad input is a typed error.
 
-use granular_automata::hopper::energy::{motion, orientation};
-use granular_automata::hopper::model::{grain_state, is_grain};
+mod common;
+
+use common::models::reference_energy;
+use granular_automata::hopper::model::is_grain;
 use granular_automata::hopper::{Aligned, Hopper, HopperParams};
-use granular_automata::lattice::velocity;
 use granular_automata::run::{derive_seed, ensemble_with_threads};
 use granular_automata::ErrorKind;
 
@@ -119,45 +120,6 @@ const GOLDEN_SAME: u64 = 0xf3b7_30af_0f53_499a;
 /// The same with the along-bond reading (HOPPER_READINGS.md R1), the
 /// default since EXPERIMENTS.md "The along-bond reading".
 const GOLDEN_BOND: u64 = 0xc7db_9f92_fc32_780a;
-
-/// E_i of MODEL.md B4 computed directly from the vectors, powers and the
-/// reading of "aligned" (slow, obvious reference).
-fn reference_energy(h: &Hopper, i: usize, s: usize) -> f64 {
-    let p = h.params().energy;
-    let g = h.geometry();
-    let sites = h.sites();
-    let hole = |j: u32| j != u32::MAX && sites[j as usize] == 0;
-    let nb = g.nbr[i];
-    let below = hole(nb[2]) || hole(nb[3]) || hole(nb[4]);
-    let v = motion(s);
-    let mut e = if below && !(v == 3 || v == 4 || v == 5) {
-        p.delta
-    } else {
-        0.0
-    };
-    for (k, &j) in nb.iter().enumerate() {
-        if j == u32::MAX || !is_grain(sites[j as usize]) {
-            continue;
-        }
-        let sn = grain_state(sites[j as usize]);
-        let (a, b) = (velocity(v), velocity(motion(sn)));
-        let shear = ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt() + 0.1;
-        let same = orientation(s) == orientation(sn);
-        // axis of orientation o: directions o + 1 and o + 4
-        let along = |m: usize| m != 0 && (m - 1) % 3 == orientation(s);
-        let aligned = match p.aligned {
-            Aligned::SameOrientation => same,
-            Aligned::AlongVelocity => same && (along(v) || along(motion(sn))),
-            // the neighbour lies in direction k + 1, along axis k mod 3
-            Aligned::AlongBond => same && k % 3 == orientation(s),
-        };
-        let orient = if aligned { p.s } else { 1.0 };
-        let d = 0.5 * (h.spacing()[i] + h.spacing()[j as usize]);
-        let dil = if d <= 1.0 / (1.0 - p.c) { 1.0 / d } else { 0.2 };
-        e += shear.powf(p.alpha) * orient.powf(p.beta) * dil.powf(p.gamma);
-    }
-    e
-}
 
 #[test]
 fn tabulated_energy_equals_the_formula() {

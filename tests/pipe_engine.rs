@@ -2,42 +2,15 @@
 //! every corner of parameter space, open-pipe bookkeeping, determinism, a
 //! golden snapshot, and bad input.
 
-use granular_automata::pipe::{Boundary, GravityWording, Params, Pipe, RestPlacement, Rules};
+mod common;
+
+use common::models::all_rules;
+use granular_automata::pipe::{Boundary, GravityWording, Params, Pipe, Rules};
 use granular_automata::run::{derive_seed, ensemble};
 use granular_automata::ErrorKind;
 
 /// Every random choice of this file derives from this seed.
 const SEED: u64 = 20_261_125;
-
-fn all_rules() -> Vec<Rules> {
-    let mut v = Vec::new();
-    for gravity in [
-        GravityWording::Ph94,
-        GravityWording::AnyMover,
-        GravityWording::UpToRest,
-    ] {
-        for wall_drag in [false, true] {
-            for gravity_first in [false, true] {
-                for rest in [RestPlacement::RandomWalk, RestPlacement::RestUp] {
-                    for wall_move in [false, true] {
-                        for rest_slide in [false, true] {
-                            v.push(Rules {
-                                gravity,
-                                wall_drag,
-                                gravity_first,
-                                rest,
-                                wall_move,
-                                rest_slide,
-                                ..Rules::MODEL_MD
-                            });
-                        }
-                    }
-                }
-            }
-        }
-    }
-    v
-}
 
 /// How a run of [`particle_number_is_conserved_at_every_corner`] ended.
 enum Ending {

@@ -106,7 +106,7 @@ fn matrix_grades_every_claim_and_resumes_from_its_cache() {
 #[test]
 fn a_wrong_model_gets_another_verdict_on_the_cheap_new_claims() {
     use granular_automata::drivers::claims::{grade_groups, Group, MatrixSize, Verdict};
-    use granular_automata::pipe::engine::Engine;
+    use granular_automata::pipe::Engine;
     use granular_automata::pipe::{Params, Rules};
     use granular_automata::run::Tier;
     let size = MatrixSize::for_tier(Tier::Quick);

@@ -42,16 +42,24 @@ fn passing(tag: &str, args: &[&str]) -> (PathBuf, serde_json::Value) {
     (dir, r)
 }
 
-#[test]
-fn the_reference_passes_both_levels() {
-    let args = [
+/// The arguments of a quick-tier validation of `candidate` at `level`,
+/// followed by `extra`.
+fn quick_args<'a>(candidate: &'a str, level: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
         "--candidate",
-        "reference",
+        candidate,
         "--level",
-        "all",
+        level,
         "--tier",
         "quick",
     ];
+    args.extend_from_slice(extra);
+    args
+}
+
+#[test]
+fn the_reference_passes_both_levels() {
+    let args = quick_args("reference", "all", &[]);
     let (dir, r) = passing("reference", &args);
     assert_eq!(r["pass"], true);
     assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
@@ -65,16 +73,7 @@ fn the_reference_passes_both_levels() {
 /// tables) and level 2 (the scenes) at the quick tier: about 20 s.
 #[test]
 fn the_fast_engine_passes_both_pipe_levels() {
-    let args = [
-        "--candidate",
-        "fast",
-        "--level",
-        "all",
-        "--tier",
-        "quick",
-        "--model",
-        "pipe",
-    ];
+    let args = quick_args("fast", "all", &["--model", "pipe"]);
     let (_, r) = passing("fast", &args);
     assert_eq!(r["pass"], true);
     assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
@@ -88,18 +87,16 @@ fn the_fast_engine_passes_both_pipe_levels() {
 /// compares the engines on dense states.
 #[test]
 fn the_fast_engine_passes_level_1_for_the_new_readings() {
-    let args = [
-        "--candidate",
+    let args = quick_args(
         "fast",
-        "--level",
         "1",
-        "--tier",
-        "quick",
-        "--model",
-        "pipe",
-        "--rules",
-        "rest-ahead+gravity-last+wall-move+fhp-rest",
-    ];
+        &[
+            "--model",
+            "pipe",
+            "--rules",
+            "rest-ahead+gravity-last+wall-move+fhp-rest",
+        ],
+    );
     let (_, r) = passing("fast-new-readings", &args);
     assert_eq!(r["pass"], true);
     assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
@@ -112,18 +109,7 @@ fn the_fast_engine_passes_level_1_for_the_new_readings() {
 /// differences in 7445 tests, session 6.)
 #[test]
 fn the_reference_passes_level_1_when_collisions_come_before_gravity() {
-    let args = [
-        "--candidate",
-        "reference",
-        "--level",
-        "1",
-        "--tier",
-        "quick",
-        "--model",
-        "pipe",
-        "--rules",
-        "ph94",
-    ];
+    let args = quick_args("reference", "1", &["--model", "pipe", "--rules", "ph94"]);
     assert_eq!(passing("reference-ph94", &args).1["pass"], true);
 }
 

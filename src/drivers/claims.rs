@@ -10,20 +10,20 @@
 //! `alpha_check`, `open_pipe::*_check`). PH95 Figs. 9-10 stay blind: no
 //! claim of them is graded here.
 
+use super::margins::{ALPHA_MARGIN, V_MARGIN, V_SAME_MARGIN};
 use super::open_pipe::{
     clogs_check, corr_run, corr_speed, fig11_pipe, fig11_speed_check, fig12_pipe, flows_check,
     ic_check, ic_independence_check, trend_test, CLOG_INJECT, FIG11_CORR, FIG11_INJECT,
     FIG11_STEPS,
 };
-use super::spectra::tier_setup;
+use super::spectra::{tier_setup, SpectrumEnsemble};
 use super::sweep::{
-    alpha_check, reduce, same_as_check, sweep_run, PointResult, Quantity, SweepPoint, V_SAME_MARGIN,
+    alpha_check, reduce, same_as_check, sweep_run, PointResult, Quantity, SweepPoint,
 };
 use crate::analysis::relaxation::Saturation;
 use crate::analysis::spectrum::{SpectrumParams, Window};
 use crate::drivers::relaxation::fig3_checks;
 use crate::error::{ErrorKind, Result};
-use crate::pipe::engine::Engine;
 use crate::pipe::open::bisect_ic;
 use crate::pipe::overlap::{
     profile_run, steep_front_check, wave_speed_check, width_grows_check, ProfileRun, SpeedRun,
@@ -33,6 +33,7 @@ use crate::pipe::record::{
     fig1_panels, fig1_pipe, relaxation, relaxation_schedule, run_bands, sample_times, Steady,
     RELAXATION_EARLY,
 };
+use crate::pipe::Engine;
 use crate::pipe::{Boundary, Params, Rules};
 use crate::run::{derive_seed, ensemble, Check, Tier};
 use serde::{Deserialize, Serialize};
@@ -179,16 +180,6 @@ pub const WAVE_THRESHOLD: f64 = 2.0;
 /// two bounds, and leaves `one_over_f_ic` undecided (session 9).
 pub const GRADING_VERSION: u32 = 5;
 
-/// Agreement margin Delta of the alpha claims ("alpha near 4/3", "white
-/// noise, alpha about 0"): |alpha - target| <= 0.1, a third of the way from
-/// 4/3 to 1/f noise (alpha = 1). Fixed in session 2 before grading the new
-/// readings; see `equivalent`.
-pub const ALPHA_MARGIN: f64 = 0.1;
-
-/// Agreement margin Delta of the wave speed v = 0.40 of PH94 Fig. 2 (quoted
-/// to two decimals: rounding +-0.005, doubled).
-pub const V_MARGIN: f64 = 0.01;
-
 /// "Density waves": s_low above [`WAVE_THRESHOLD`] by the one grading rule.
 fn waves(s_low: Estimate) -> Verdict {
     grade_claim(
@@ -310,6 +301,15 @@ pub enum Group {
 }
 
 impl Group {
+    /// Runs per set-up of this group's claims at `size`.
+    fn runs(self, size: MatrixSize) -> usize {
+        match self {
+            Group::Bands | Group::Spectra => size.runs,
+            Group::Relaxation | Group::Profile | Group::Speed => size.wave_runs,
+            Group::Fig11 | Group::Fig12 => size.open_runs,
+        }
+    }
+
     /// The name of the group on the command line (`pipe-matrix --groups`).
     pub fn name(self) -> &'static str {
         match self {
@@ -426,25 +426,28 @@ pub fn grade_groups(
     tweak: fn(Params) -> Params,
     tick: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<Graded>> {
-    let seeds_of = |n: usize| -> Vec<u64> { (0..n as u64).map(|i| derive_seed(seed, i)).collect() };
-    let seeds = seeds_of(size.runs);
     let mut out = Vec::new();
-    for group in Group::ALL.iter().filter(|g| groups.contains(g)) {
-        let m = Model {
-            rules,
-            engine,
-            tweak,
+    for group in Group::ALL.into_iter().filter(|g| groups.contains(g)) {
+        let g = Grader {
+            model: Model {
+                rules,
+                engine,
+                tweak,
+            },
+            size,
+            seeds: (0..group.runs(size) as u64)
+                .map(|i| derive_seed(seed, i))
+                .collect(),
+            tick,
         };
         match group {
-            Group::Bands => bands_group(&m, size, &seeds, tick, &mut out)?,
-            Group::Spectra => spectra_group(&m, size, &seeds, tick, &mut out)?,
-            Group::Relaxation => {
-                relaxation_group(&m, size, &seeds_of(size.wave_runs), tick, &mut out)?
-            }
-            Group::Profile => profile_group(&m, size, &seeds_of(size.wave_runs), tick, &mut out)?,
-            Group::Speed => speed_group(&m, size, &seeds_of(size.wave_runs), tick, &mut out)?,
-            Group::Fig11 => fig11_group(&m, &seeds_of(size.open_runs), tick, &mut out)?,
-            Group::Fig12 => fig12_group(&m, size, &seeds_of(size.open_runs), tick, &mut out)?,
+            Group::Bands => g.bands(&mut out)?,
+            Group::Spectra => g.spectra(&mut out)?,
+            Group::Relaxation => g.relaxation(&mut out)?,
+            Group::Profile => g.profile(&mut out)?,
+            Group::Speed => g.speed(&mut out)?,
+            Group::Fig11 => g.fig11(&mut out)?,
+            Group::Fig12 => g.fig12(&mut out)?,
         }
     }
     Ok(out)
@@ -457,6 +460,15 @@ struct Model {
     tweak: fn(Params) -> Params,
 }
 
+/// One group of claims graded for one model: what every group's runs share.
+struct Grader<'a> {
+    model: Model,
+    size: MatrixSize,
+    /// The seeds of the group's runs ([`Group::runs`] of them).
+    seeds: Vec<u64>,
+    tick: &'a (dyn Fn(u64) + Sync),
+}
+
 fn graded(claim: &str, m: f64, e: f64, v: Verdict, d: String) -> Graded {
     Graded {
         claim: claim.to_string(),
@@ -467,251 +479,468 @@ fn graded(claim: &str, m: f64, e: f64, v: Verdict, d: String) -> Graded {
     }
 }
 
-/// PH94 Fig. 1 panels and the density window.
-fn bands_group(
-    model: &Model,
-    size: MatrixSize,
-    seeds: &[u64],
-    tick: &(dyn Fn(u64) + Sync),
-    out: &mut Vec<Graded>,
-) -> Result<()> {
-    let (rules, engine) = (model.rules, model.engine);
-    let base = (model.tweak)(Params {
-        length: 2200,
-        width: 11,
-        rho: 1.0,
-        p: 0.1,
-        g: 0.5,
-        b: 0.5,
-        ..Params::default()
-    });
-    let panels = ensemble(seeds.len(), |i| {
-        fig1_panels(base, rules, engine, seeds[i], size.band_steps, 80, tick)
-    });
-    let panels: Vec<_> = panels.into_iter().collect::<Result<_>>()?;
-    let stat = |k: usize| Estimate::of(&panels.iter().map(|r| r[k].1.s_low).collect::<Vec<_>>());
-    for (k, claim, want) in [
-        (0, "waves_1a", true),
-        (1, "none_p0", false),
-        (2, "return_1c", true),
-        (3, "none_b0", false),
-    ] {
-        let est = stat(k);
-        let v = if want {
-            waves(est)
-        } else {
-            waves(est).negate()
-        };
-        let (m, e) = (est.mean, est.se);
-        out.push(graded(claim, m, e, v, format!("s_low = {m:.2} +- {e:.2}")));
-    }
-
-    // the density window
-    let inside = [0.7, 1.0, 1.5];
-    let outside = [0.3, 2.2];
-    let mut verdicts = Vec::new();
-    let mut detail = Vec::new();
-    for &rho in inside.iter().chain(outside.iter()) {
-        let (est, invalid) = band_stat(
-            Params { rho, ..base },
-            rules,
-            engine,
-            seeds,
-            size.band_steps,
-        )?;
-        let (m, e) = (est.mean, est.se);
-        tick(seeds.len() as u64 * size.band_steps);
-        let want = inside.contains(&rho);
-        let v = if invalid == seeds.len() {
-            // the model is undefined there: no waves
-            Verdict::NotReproduced
-        } else {
-            waves(est)
-        };
-        verdicts.push(if want { v } else { v.negate() });
-        detail.push(format!(
-            "rho {rho}: {m:.2} +- {e:.2}{}",
-            if invalid > 0 {
-                format!(" ({invalid} runs invalid)")
-            } else {
-                String::new()
-            }
-        ));
-    }
-    let n = verdicts.len();
-    let agree = verdicts
-        .iter()
-        .filter(|v| **v == Verdict::Reproduced)
-        .count();
-    out.push(graded(
-        "rho_window",
-        agree as f64,
-        0.0,
-        all_of(verdicts),
-        format!("{agree}/{n} agree; {}", detail.join("; ")),
-    ));
-    Ok(())
+/// A claim left undecided, with the reason.
+fn undecided(claim: &str, why: String) -> Graded {
+    graded(claim, f64::NAN, f64::NAN, Verdict::Undecided, why)
 }
 
-/// One spectrum point (PH94 Fig. 2 set-up unless changed) over `seeds`,
-/// runs outside the model's validity counted as invalid.
-fn spectrum_point(
-    model: &Model,
-    size: MatrixSize,
-    label: &str,
-    params: Params,
-    seeds: &[u64],
-    tick: &(dyn Fn(u64) + Sync),
-) -> Result<PointResult> {
-    let params = (model.tweak)(params);
-    let setup = tier_setup(size.spectrum_tier, params, model.rules, model.engine);
-    let runs = ensemble(seeds.len(), |i| sweep_run(&setup, seeds[i], tick))
-        .into_iter()
-        .collect::<Result<Vec<_>>>()?;
-    let point = SweepPoint {
-        label: label.to_string(),
-        x: vec![],
-        params,
-    };
-    reduce(&point, &setup, runs)
+/// "alpha is `target`" at `r`, within [`ALPHA_MARGIN`].
+fn alpha_graded(claim: &str, r: &PointResult, target: f64) -> Graded {
+    let (a, e) = (r.alpha, r.alpha_err);
+    graded(
+        claim,
+        a,
+        e,
+        equivalent(r.alpha_estimate(), target, ALPHA_MARGIN),
+        format!("alpha = {a:.3} +- {e:.3}"),
+    )
 }
 
-/// The spectrum claims of PH94 Fig. 2 and PH95 Figs. 6-8.
-fn spectra_group(
-    model: &Model,
-    size: MatrixSize,
-    seeds: &[u64],
-    tick: &(dyn Fn(u64) + Sync),
-    out: &mut Vec<Graded>,
-) -> Result<()> {
-    // PH94 Fig. 2: L = 220, W = 11, rho = 1, p = g = b = 0.5
-    let s_base = Params::default();
-    let spec = |label: &str, params: Params| -> Result<PointResult> {
-        spectrum_point(model, size, label, params, seeds, tick)
-    };
-    let fig2 = spec("p0.5", s_base)?;
-    let alpha_of = |r: &PointResult| (r.alpha, r.alpha_err, r.alpha_estimate());
-    let no_ens = |r: &PointResult| {
-        format!(
-            "{}: every run left the model's validity ({} invalid)",
-            r.point.label, r.invalid
-        )
-    };
-    {
-        let (a, e, est) = alpha_of(&fig2);
-        out.push(graded(
-            "alpha_fig2",
-            a,
-            e,
-            equivalent(est, 1.33, ALPHA_MARGIN),
-            format!("alpha = {a:.3} +- {e:.3}"),
-        ));
-    }
-    match &fig2.ensemble {
-        Some(ens) => out.push(graded(
-            "v_fig2",
+/// "the spectrum peaks at v = `target`" at `r`, within `margin` (`what`:
+/// the detail after the value); undecided if every run left the model.
+fn v_graded(
+    claim: &str,
+    r: &PointResult,
+    target: f64,
+    margin: f64,
+    what: impl Fn(&SpectrumEnsemble) -> String,
+) -> Graded {
+    match &r.ensemble {
+        Some(ens) => graded(
+            claim,
             ens.v_peak,
             ens.v_err,
-            equivalent(ens.v_estimate(), 0.40, V_MARGIN),
-            format!(
-                "v = {:.4} +- {:.4} (j = {}, contrast {:.1})",
-                ens.v_peak, ens.v_err, ens.j_peak, ens.fit_of_mean.contrast
-            ),
-        )),
-        None => out.push(graded(
-            "v_fig2",
-            f64::NAN,
-            f64::NAN,
-            Verdict::Undecided,
-            no_ens(&fig2),
-        )),
-    }
-    let p08 = spec("p0.8", Params { p: 0.8, ..s_base })?;
-    {
-        let (a, e, est) = alpha_of(&p08);
-        out.push(graded(
-            "alpha_p08",
-            a,
-            e,
-            equivalent(est, 1.33, ALPHA_MARGIN),
-            format!("alpha = {a:.3} +- {e:.3}"),
-        ));
-    }
-    for (claim, label, params) in [
-        ("white_p0", "p0", Params { p: 0.0, ..s_base }),
-        ("white_b0", "b0", Params { b: 0.0, ..s_base }),
-    ] {
-        let r = spec(label, params)?;
-        let (a, e, est) = alpha_of(&r);
-        out.push(graded(
+            equivalent(ens.v_estimate(), target, margin),
+            format!("v = {:.4} +- {:.4} ({})", ens.v_peak, ens.v_err, what(ens)),
+        ),
+        None => undecided(
             claim,
-            a,
-            e,
-            equivalent(est, 0.0, ALPHA_MARGIN),
-            format!("alpha = {a:.3} +- {e:.3}"),
+            format!(
+                "{}: every run left the model's validity ({} invalid)",
+                r.point.label, r.invalid
+            ),
+        ),
+    }
+}
+
+impl Grader<'_> {
+    /// `params` as the model under test runs them (the tweak applied).
+    fn pipe(&self, params: Params) -> Params {
+        (self.model.tweak)(params)
+    }
+
+    /// One run per seed of `seeds` over threads, in their order; the first
+    /// error, if any.
+    fn each<T: Send>(
+        &self,
+        seeds: &[u64],
+        run: impl Fn(u64) -> Result<T> + Sync,
+    ) -> Result<Vec<T>> {
+        ensemble(seeds.len(), |i| run(seeds[i]))
+            .into_iter()
+            .collect()
+    }
+
+    /// PH94 Fig. 1 panels and the density window.
+    fn bands(&self, out: &mut Vec<Graded>) -> Result<()> {
+        let (rules, engine, seeds) = (self.model.rules, self.model.engine, &self.seeds);
+        let base = self.pipe(Params {
+            length: 2200,
+            width: 11,
+            rho: 1.0,
+            p: 0.1,
+            g: 0.5,
+            b: 0.5,
+            ..Params::default()
+        });
+        let steps = self.size.band_steps;
+        let panels = self.each(seeds, |s| {
+            fig1_panels(base, rules, engine, s, steps, 80, self.tick)
+        })?;
+        let stat =
+            |k: usize| Estimate::of(&panels.iter().map(|r| r[k].1.s_low).collect::<Vec<_>>());
+        for (k, claim, want) in [
+            (0, "waves_1a", true),
+            (1, "none_p0", false),
+            (2, "return_1c", true),
+            (3, "none_b0", false),
+        ] {
+            let est = stat(k);
+            let v = if want {
+                waves(est)
+            } else {
+                waves(est).negate()
+            };
+            let (m, e) = (est.mean, est.se);
+            out.push(graded(claim, m, e, v, format!("s_low = {m:.2} +- {e:.2}")));
+        }
+
+        // the density window
+        let inside = [0.7, 1.0, 1.5];
+        let outside = [0.3, 2.2];
+        let mut verdicts = Vec::new();
+        let mut detail = Vec::new();
+        for &rho in inside.iter().chain(outside.iter()) {
+            let (est, invalid) = band_stat(Params { rho, ..base }, rules, engine, seeds, steps)?;
+            let (m, e) = (est.mean, est.se);
+            (self.tick)(seeds.len() as u64 * steps);
+            let want = inside.contains(&rho);
+            let v = if invalid == seeds.len() {
+                // the model is undefined there: no waves
+                Verdict::NotReproduced
+            } else {
+                waves(est)
+            };
+            verdicts.push(if want { v } else { v.negate() });
+            detail.push(format!(
+                "rho {rho}: {m:.2} +- {e:.2}{}",
+                if invalid > 0 {
+                    format!(" ({invalid} runs invalid)")
+                } else {
+                    String::new()
+                }
+            ));
+        }
+        let n = verdicts.len();
+        let agree = verdicts
+            .iter()
+            .filter(|v| **v == Verdict::Reproduced)
+            .count();
+        out.push(graded(
+            "rho_window",
+            agree as f64,
+            0.0,
+            all_of(verdicts),
+            format!("{agree}/{n} agree; {}", detail.join("; ")),
         ));
-        if claim == "white_b0" {
-            let m = size.spectrum_tier.pick(4096, 8192, 16384);
-            let bin_v = s_base.length as f64 / (10.0 * 2.0 * m as f64);
-            match &r.ensemble {
-                Some(e) => out.push(graded(
-                    "peak_b0",
-                    e.v_peak,
-                    e.v_err,
-                    equivalent(e.v_estimate(), 0.5, 2.0 * bin_v),
-                    format!(
-                        "v = {:.4} +- {:.4} (tolerance two bins = {:.4})",
-                        e.v_peak,
-                        e.v_err,
-                        2.0 * bin_v
-                    ),
-                )),
-                None => out.push(graded(
-                    "peak_b0",
-                    f64::NAN,
-                    f64::NAN,
-                    Verdict::Undecided,
-                    no_ens(&r),
-                )),
+        Ok(())
+    }
+
+    /// One spectrum point (PH94 Fig. 2 set-up unless changed) over `seeds`,
+    /// runs outside the model's validity counted as invalid.
+    fn spectrum_point(&self, label: &str, params: Params, seeds: &[u64]) -> Result<PointResult> {
+        let params = self.pipe(params);
+        let setup = tier_setup(
+            self.size.spectrum_tier,
+            params,
+            self.model.rules,
+            self.model.engine,
+        );
+        let runs = self.each(seeds, |s| sweep_run(&setup, s, self.tick))?;
+        let point = SweepPoint {
+            label: label.to_string(),
+            x: vec![],
+            params,
+        };
+        reduce(&point, &setup, runs)
+    }
+
+    /// The spectrum claims of PH94 Fig. 2 and PH95 Figs. 6-8.
+    fn spectra(&self, out: &mut Vec<Graded>) -> Result<()> {
+        // PH94 Fig. 2: L = 220, W = 11, rho = 1, p = g = b = 0.5
+        let s_base = Params::default();
+        let spec = |label: &str, params: Params| self.spectrum_point(label, params, &self.seeds);
+        let fig2 = spec("p0.5", s_base)?;
+        out.push(alpha_graded("alpha_fig2", &fig2, 1.33));
+        out.push(v_graded("v_fig2", &fig2, 0.40, V_MARGIN, |ens| {
+            format!(
+                "j = {}, contrast {:.1}",
+                ens.j_peak, ens.fit_of_mean.contrast
+            )
+        }));
+        let p08 = spec("p0.8", Params { p: 0.8, ..s_base })?;
+        out.push(alpha_graded("alpha_p08", &p08, 1.33));
+        for (claim, label, params) in [
+            ("white_p0", "p0", Params { p: 0.0, ..s_base }),
+            ("white_b0", "b0", Params { b: 0.0, ..s_base }),
+        ] {
+            let r = spec(label, params)?;
+            out.push(alpha_graded(claim, &r, 0.0));
+            if claim == "white_b0" {
+                let m = self.size.spectrum_tier.pick(4096, 8192, 16384);
+                let bin_v = s_base.length as f64 / (10.0 * 2.0 * m as f64);
+                let two_bins = 2.0 * bin_v;
+                out.push(v_graded("peak_b0", &r, 0.5, two_bins, |_| {
+                    format!("tolerance two bins = {two_bins:.4}")
+                }));
             }
         }
+        // PH95 Fig. 8: alpha and v at p = 0.05, 0.2 (and 0.8, above) against p = 0.5
+        let mut others = vec![];
+        for p in [0.05, 0.2] {
+            others.push(spec(&format!("p{p}"), Params { p, ..s_base })?);
+        }
+        others.push(p08);
+        for (claim, q, margin, source) in [
+            (
+                "alpha_const_p",
+                Quantity::Alpha,
+                ALPHA_MARGIN,
+                "PH95 Fig. 8a (alpha about constant for every p > 0)",
+            ),
+            (
+                "v_const_p",
+                Quantity::V,
+                V_SAME_MARGIN,
+                "PH95 Fig. 8b (v does not change with p within the error bars)",
+            ),
+        ] {
+            let checks: Vec<Check> = others
+                .iter()
+                .map(|r| {
+                    let name = format!("{}_{}", q.name(), r.point.label);
+                    same_as_check(&name, source, q, r, &fig2, margin)
+                })
+                .collect();
+            out.push(from_checks(claim, &checks));
+        }
+        Ok(())
     }
-    // PH95 Fig. 8: alpha and v at p = 0.05, 0.2 (and 0.8, above) against p = 0.5
-    let mut others = vec![];
-    for p in [0.05, 0.2] {
-        others.push(spec(&format!("p{p}"), Params { p, ..s_base })?);
+
+    /// PH95 Fig. 3: contrast and energy loss from the random start.
+    fn relaxation(&self, out: &mut Vec<Graded>) -> Result<()> {
+        let params = self.pipe(Params {
+            length: 256,
+            bin: 8,
+            ..fig1_pipe()
+        });
+        let (steps, every) = relaxation_schedule(self.size.spectrum_tier);
+        let times = sample_times(steps, every, RELAXATION_EARLY);
+        let (rules, engine) = (self.model.rules, self.model.engine);
+        let runs = self.each(&self.seeds, |s| {
+            relaxation(params, rules, engine, s, &times, self.tick)
+        })?;
+        let tf: Vec<f64> = times.iter().map(|&t| t as f64).collect();
+        let cs: Vec<Vec<f64>> = runs.iter().map(|r| r.contrast.clone()).collect();
+        let es: Vec<Vec<f64>> = runs.iter().map(|r| r.energy_loss.clone()).collect();
+        let checks = fig3_checks(
+            &Saturation::of(&cs, &tf),
+            &Saturation::of(&es, &tf),
+            runs.len(),
+        );
+        push_named(
+            out,
+            &checks,
+            &[
+                ("contrast_rises", "contrast_rises"),
+                ("contrast_saturates", "contrast_saturates"),
+                ("energy_rises", "energy_loss_rises"),
+                ("energy_saturates", "energy_loss_saturates"),
+            ],
+        );
+        Ok(())
     }
-    others.push(p08);
-    for (claim, q, margin, source) in [
-        (
-            "alpha_const_p",
-            Quantity::Alpha,
-            ALPHA_MARGIN,
-            "PH95 Fig. 8a (alpha about constant for every p > 0)",
-        ),
-        (
-            "v_const_p",
-            Quantity::V,
-            V_SAME_MARGIN,
-            "PH95 Fig. 8b (v does not change with p within the error bars)",
-        ),
-    ] {
-        let checks: Vec<Check> = others
+
+    /// PH95 Fig. 4: the aligned wave profile at four lengths.
+    fn profile(&self, out: &mut Vec<Graded>) -> Result<()> {
+        let tier = self.size.spectrum_tier;
+        let steady = Steady::ph95(tier, tier.pick(512, 2048, 2048), FIELDS_EVERY);
+        let (rules, engine) = (self.model.rules, self.model.engine);
+        let mut per_l = Vec::new();
+        for l in FIG4_LENGTHS {
+            let params = self.pipe(Params {
+                length: l,
+                bin: FIG4_BIN,
+                ..fig1_pipe()
+            });
+            let mean = (FIG4_BIN * params.width) as f64 * params.rho;
+            let runs: Vec<ProfileRun> = self.each(&self.seeds, |s| {
+                let f = steady.record(params, rules, engine, s, self.tick)?;
+                Ok(profile_run(&f, mean, FIG4_BIN, s))
+            })?;
+            per_l.push((l, runs));
+        }
+        let steep: Vec<Check> = per_l
             .iter()
-            .map(|r| {
-                same_as_check(
-                    &format!("{}_{}", q.name(), r.point.label),
-                    source,
-                    q,
-                    r,
-                    &fig2,
-                    margin,
-                )
-            })
+            .map(|(l, r)| steep_front_check(*l, r))
             .collect();
-        out.push(from_checks(claim, &checks));
+        out.push(from_checks("steep_front", &steep));
+        let (first, last) = (&per_l[0], &per_l[per_l.len() - 1]);
+        let width = width_grows_check((first.0, &first.1), (last.0, &last.1));
+        out.push(from_checks("width_grows", &[width]));
+        Ok(())
     }
-    Ok(())
+
+    /// PH95 Fig. 5: the real-space wave speed at L = 512.
+    fn speed(&self, out: &mut Vec<Graded>) -> Result<()> {
+        let tier = self.size.spectrum_tier;
+        let steady = Steady::ph95(tier, tier.pick(1024, 2048, 2048), FIELDS_EVERY);
+        let params = self.pipe(Params {
+            length: 512,
+            bin: FIG5_BIN,
+            ..fig1_pipe()
+        });
+        let spec = SpectrumParams {
+            m: steady.fields / 4,
+            k: 1,
+            window: Window::Parzen1988,
+        };
+        let (rules, engine) = (self.model.rules, self.model.engine);
+        let runs = self.each(&self.seeds, |s| {
+            let f = steady.record(params, rules, engine, s, self.tick)?;
+            SpeedRun::measure(&f, &params, FIELDS_EVERY, FIG5_MAX_LAG, &spec)
+        })?;
+        out.push(from_checks("v_fig5", &[wave_speed_check(&runs)]));
+        Ok(())
+    }
+
+    /// PH95 Fig. 11: the published open-pipe set-up.
+    fn fig11(&self, out: &mut Vec<Graded>) -> Result<()> {
+        let params = self.pipe(fig11_pipe(FIG11_INJECT));
+        let (rules, engine) = (self.model.rules, self.model.engine);
+        let runs = self.each(&self.seeds, |s| {
+            corr_run(
+                params,
+                rules,
+                engine,
+                s,
+                FIG11_STEPS,
+                &FIG11_CORR,
+                self.tick,
+            )
+        })?;
+        out.push(from_checks(
+            "flows_fig11",
+            &[flows_check(&runs, FIG11_STEPS)],
+        ));
+        let speed = corr_speed(&runs, &FIG11_CORR, params.bin);
+        out.push(from_checks(
+            "v_fig11",
+            &[fig11_speed_check(&speed, runs.len())],
+        ));
+        Ok(())
+    }
+
+    /// Steps of the trend runs of PH95 Fig. 12 at this size.
+    fn trend_steps(&self) -> u64 {
+        self.size.spectrum_tier.pick(20_000, 50_000, 100_000)
+    }
+
+    /// I_c by bisection at `params` (its injection rate replaced), or the
+    /// reason it could not be bracketed.
+    fn bisect(&self, params: Params) -> Result<std::result::Result<(f64, f64), String>> {
+        let (rules, engine, steps) = (self.model.rules, self.model.engine, self.trend_steps());
+        let r = bisect_ic(0.0, 1.0, self.size.bisections, |i| {
+            let p = Params {
+                boundary: Boundary::Open { inject: i },
+                ..params
+            };
+            Ok(trend_test(p, rules, engine, &self.seeds, steps, true, self.tick)?.0)
+        });
+        match r {
+            Ok((i_c, err, _)) => Ok(Ok((i_c, err))),
+            Err(e) if e.kind == ErrorKind::BadSeries => Ok(Err(e.message)),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// PH95 Fig. 12: I_c, its independence of size and parameters, the
+    /// spectra at and below I_c, clogging at I = 0.54.
+    fn fig12(&self, out: &mut Vec<Graded>) -> Result<()> {
+        let runs = self.seeds.len();
+        let pipe = |l, w, g| {
+            self.pipe(Params {
+                g,
+                ..fig12_pipe(l, w, 0.0)
+            })
+        };
+        let (i_c, err) = match self.bisect(pipe(220, 11, 0.5))? {
+            Ok(x) => x,
+            Err(why) => {
+                for (id, _) in CLAIMS.iter().skip_while(|(id, _)| *id != "i_c") {
+                    out.push(undecided(id, format!("I_c not bracketed: {why}")));
+                }
+                return Ok(());
+            }
+        };
+        out.push(from_checks(
+            "i_c",
+            &[ic_check((i_c, err), runs, "L = 220, W = 11")],
+        ));
+        for (id, name, what, set) in [
+            (
+                "i_c_size",
+                "i_c_independent_of_w_and_l",
+                "the pipe size",
+                vec![("220x5", pipe(220, 5, 0.5)), ("440x11", pipe(440, 11, 0.5))],
+            ),
+            (
+                "i_c_params",
+                "i_c_independent_of_g",
+                "the model parameters",
+                vec![("g = 0.2", pipe(220, 11, 0.2))],
+            ),
+        ] {
+            let mut others = Vec::new();
+            let mut failed = None;
+            for (label, p) in set {
+                match self.bisect(p)? {
+                    Ok((i, e)) => others.push((label.to_string(), i, e)),
+                    Err(why) => failed = Some(format!("{label}: I_c not bracketed: {why}")),
+                }
+            }
+            out.push(match failed {
+                Some(why) => undecided(id, why),
+                None => from_checks(
+                    id,
+                    &[ic_independence_check(name, what, (i_c, err), &others, runs)],
+                ),
+            });
+        }
+        // spectra of the bottom bin at the largest stationary rate and at 0.5 I_c
+        let at = |i: f64| Params {
+            boundary: Boundary::Open { inject: i },
+            ..pipe(220, 11, 0.5)
+        };
+        let i_lo = i_c - err;
+        let spec_seeds: Vec<u64> = self.seeds.iter().copied().take(self.size.runs).collect();
+        // half-width 0: no rate up to 1 clogs, so there is no I_c to measure at
+        let near = if err > 0.0 {
+            Some(self.spectrum_point(&format!("I{i_lo:.4}"), at(i_lo), &spec_seeds)?)
+        } else {
+            None
+        };
+        let half =
+            self.spectrum_point(&format!("I{:.4}", 0.5 * i_c), at(0.5 * i_c), &spec_seeds)?;
+        out.push(match &near {
+            Some(near) => from_checks(
+                "one_over_f_ic",
+                &[alpha_check(
+                    "one_over_f_at_i_c",
+                    "PH95 Fig. 12a-b (1/f noise at I_c)",
+                    near,
+                    1.0,
+                    ALPHA_MARGIN,
+                )],
+            ),
+            None => undecided(
+                "one_over_f_ic",
+                format!("I_c not bracketed: no rate up to {i_c} clogs, so there is no I_c to measure the spectrum at"),
+            ),
+        });
+        out.push(from_checks(
+            "white_half_ic",
+            &[alpha_check(
+                "white_at_half_i_c",
+                "PH95 Fig. 12a-b (white noise away from I_c)",
+                &half,
+                0.0,
+                ALPHA_MARGIN,
+            )],
+        ));
+        let (rules, engine) = (self.model.rules, self.model.engine);
+        let (s, _) = trend_test(
+            at(CLOG_INJECT),
+            rules,
+            engine,
+            &self.seeds,
+            self.trend_steps(),
+            false,
+            self.tick,
+        )?;
+        out.push(from_checks("clogs_054", &[clogs_check(&s, CLOG_INJECT)]));
+        Ok(())
+    }
 }
 
 /// The checks of `checks` named `names`, graded as the claims `ids`.
@@ -722,303 +951,8 @@ fn push_named(out: &mut Vec<Graded>, checks: &[Check], pairs: &[(&str, &str)]) {
     }
 }
 
-/// PH95 Fig. 3: contrast and energy loss from the random start.
-fn relaxation_group(
-    model: &Model,
-    size: MatrixSize,
-    seeds: &[u64],
-    tick: &(dyn Fn(u64) + Sync),
-    out: &mut Vec<Graded>,
-) -> Result<()> {
-    let params = (model.tweak)(Params {
-        length: 256,
-        bin: 8,
-        ..fig1_pipe()
-    });
-    let (steps, every) = relaxation_schedule(size.spectrum_tier);
-    let times = sample_times(steps, every, RELAXATION_EARLY);
-    let runs = ensemble(seeds.len(), |i| {
-        relaxation(params, model.rules, model.engine, seeds[i], &times, tick)
-    })
-    .into_iter()
-    .collect::<Result<Vec<_>>>()?;
-    let tf: Vec<f64> = times.iter().map(|&t| t as f64).collect();
-    let cs: Vec<Vec<f64>> = runs.iter().map(|r| r.contrast.clone()).collect();
-    let es: Vec<Vec<f64>> = runs.iter().map(|r| r.energy_loss.clone()).collect();
-    let checks = fig3_checks(
-        &Saturation::of(&cs, &tf),
-        &Saturation::of(&es, &tf),
-        runs.len(),
-    );
-    push_named(
-        out,
-        &checks,
-        &[
-            ("contrast_rises", "contrast_rises"),
-            ("contrast_saturates", "contrast_saturates"),
-            ("energy_rises", "energy_loss_rises"),
-            ("energy_saturates", "energy_loss_saturates"),
-        ],
-    );
-    Ok(())
-}
-
 /// The lengths of the PH95 Fig. 4 claims.
 pub const FIG4_LENGTHS: [usize; 4] = [128, 256, 512, 1024];
-
-/// PH95 Fig. 4: the aligned wave profile at four lengths.
-fn profile_group(
-    model: &Model,
-    size: MatrixSize,
-    seeds: &[u64],
-    tick: &(dyn Fn(u64) + Sync),
-    out: &mut Vec<Graded>,
-) -> Result<()> {
-    let tier = size.spectrum_tier;
-    let steady = Steady::ph95(tier, tier.pick(512, 2048, 2048), FIELDS_EVERY);
-    let mut per_l = Vec::new();
-    for l in FIG4_LENGTHS {
-        let params = (model.tweak)(Params {
-            length: l,
-            bin: FIG4_BIN,
-            ..fig1_pipe()
-        });
-        let mean = (FIG4_BIN * params.width) as f64 * params.rho;
-        let runs = ensemble(seeds.len(), |i| {
-            let f = steady.record(params, model.rules, model.engine, seeds[i], tick)?;
-            Ok(profile_run(&f, mean, FIG4_BIN, seeds[i]))
-        })
-        .into_iter()
-        .collect::<Result<Vec<ProfileRun>>>()?;
-        per_l.push((l, runs));
-    }
-    let steep: Vec<Check> = per_l
-        .iter()
-        .map(|(l, r)| steep_front_check(*l, r))
-        .collect();
-    out.push(from_checks("steep_front", &steep));
-    let (first, last) = (&per_l[0], &per_l[per_l.len() - 1]);
-    let width = width_grows_check((first.0, &first.1), (last.0, &last.1));
-    out.push(from_checks("width_grows", &[width]));
-    Ok(())
-}
-
-/// PH95 Fig. 5: the real-space wave speed at L = 512.
-fn speed_group(
-    model: &Model,
-    size: MatrixSize,
-    seeds: &[u64],
-    tick: &(dyn Fn(u64) + Sync),
-    out: &mut Vec<Graded>,
-) -> Result<()> {
-    let tier = size.spectrum_tier;
-    let steady = Steady::ph95(tier, tier.pick(1024, 2048, 2048), FIELDS_EVERY);
-    let params = (model.tweak)(Params {
-        length: 512,
-        bin: FIG5_BIN,
-        ..fig1_pipe()
-    });
-    let spec = SpectrumParams {
-        m: steady.fields / 4,
-        k: 1,
-        window: Window::Parzen1988,
-    };
-    let runs = ensemble(seeds.len(), |i| {
-        let f = steady.record(params, model.rules, model.engine, seeds[i], tick)?;
-        SpeedRun::measure(&f, &params, FIELDS_EVERY, FIG5_MAX_LAG, &spec)
-    })
-    .into_iter()
-    .collect::<Result<Vec<_>>>()?;
-    out.push(from_checks("v_fig5", &[wave_speed_check(&runs)]));
-    Ok(())
-}
-
-/// PH95 Fig. 11: the published open-pipe set-up.
-fn fig11_group(
-    model: &Model,
-    seeds: &[u64],
-    tick: &(dyn Fn(u64) + Sync),
-    out: &mut Vec<Graded>,
-) -> Result<()> {
-    let params = (model.tweak)(fig11_pipe(FIG11_INJECT));
-    let runs = ensemble(seeds.len(), |i| {
-        corr_run(
-            params,
-            model.rules,
-            model.engine,
-            seeds[i],
-            FIG11_STEPS,
-            &FIG11_CORR,
-            tick,
-        )
-    })
-    .into_iter()
-    .collect::<Result<Vec<_>>>()?;
-    out.push(from_checks(
-        "flows_fig11",
-        &[flows_check(&runs, FIG11_STEPS)],
-    ));
-    let speed = corr_speed(&runs, &FIG11_CORR, params.bin);
-    out.push(from_checks(
-        "v_fig11",
-        &[fig11_speed_check(&speed, runs.len())],
-    ));
-    Ok(())
-}
-
-/// I_c by bisection at `params` (its injection rate replaced), or the
-/// reason it could not be bracketed.
-fn bisect(
-    model: &Model,
-    size: MatrixSize,
-    params: Params,
-    seeds: &[u64],
-    tick: &(dyn Fn(u64) + Sync),
-) -> Result<std::result::Result<(f64, f64), String>> {
-    let steps = size.spectrum_tier.pick(20_000, 50_000, 100_000);
-    let r = bisect_ic(0.0, 1.0, size.bisections, |i| {
-        let p = Params {
-            boundary: Boundary::Open { inject: i },
-            ..params
-        };
-        Ok(trend_test(p, model.rules, model.engine, seeds, steps, true, tick)?.0)
-    });
-    match r {
-        Ok((i_c, err, _)) => Ok(Ok((i_c, err))),
-        Err(e) if e.kind == ErrorKind::BadSeries => Ok(Err(e.message)),
-        Err(e) => Err(e),
-    }
-}
-
-/// PH95 Fig. 12: I_c, its independence of size and parameters, the spectra
-/// at and below I_c, clogging at I = 0.54.
-fn fig12_group(
-    model: &Model,
-    size: MatrixSize,
-    seeds: &[u64],
-    tick: &(dyn Fn(u64) + Sync),
-    out: &mut Vec<Graded>,
-) -> Result<()> {
-    let runs = seeds.len();
-    let pipe = |l, w, g| {
-        (model.tweak)(Params {
-            g,
-            ..fig12_pipe(l, w, 0.0)
-        })
-    };
-    let main = bisect(model, size, pipe(220, 11, 0.5), seeds, tick)?;
-    let undecided =
-        |id: &str, why: &str| graded(id, f64::NAN, f64::NAN, Verdict::Undecided, why.to_string());
-    let (i_c, err) = match main {
-        Ok(x) => x,
-        Err(why) => {
-            for (id, _) in CLAIMS.iter().skip_while(|(id, _)| *id != "i_c") {
-                out.push(undecided(id, &format!("I_c not bracketed: {why}")));
-            }
-            return Ok(());
-        }
-    };
-    out.push(from_checks(
-        "i_c",
-        &[ic_check((i_c, err), runs, "L = 220, W = 11")],
-    ));
-    for (id, name, what, set) in [
-        (
-            "i_c_size",
-            "i_c_independent_of_w_and_l",
-            "the pipe size",
-            vec![("220x5", pipe(220, 5, 0.5)), ("440x11", pipe(440, 11, 0.5))],
-        ),
-        (
-            "i_c_params",
-            "i_c_independent_of_g",
-            "the model parameters",
-            vec![("g = 0.2", pipe(220, 11, 0.2))],
-        ),
-    ] {
-        let mut others = Vec::new();
-        let mut failed = None;
-        for (label, p) in set {
-            match bisect(model, size, p, seeds, tick)? {
-                Ok((i, e)) => others.push((label.to_string(), i, e)),
-                Err(why) => failed = Some(format!("{label}: I_c not bracketed: {why}")),
-            }
-        }
-        match failed {
-            Some(why) => out.push(undecided(id, &why)),
-            None => out.push(from_checks(
-                id,
-                &[ic_independence_check(name, what, (i_c, err), &others, runs)],
-            )),
-        }
-    }
-    // spectra of the bottom bin at the largest stationary rate and at 0.5 I_c
-    let at = |i: f64| Params {
-        boundary: Boundary::Open { inject: i },
-        ..pipe(220, 11, 0.5)
-    };
-    let i_lo = i_c - err;
-    let spec_seeds: Vec<u64> = seeds.iter().copied().take(size.runs).collect();
-    // half-width 0: no rate up to 1 clogs, so there is no I_c to measure at
-    let near = if err > 0.0 {
-        Some(spectrum_point(
-            model,
-            size,
-            &format!("I{i_lo:.4}"),
-            at(i_lo),
-            &spec_seeds,
-            tick,
-        )?)
-    } else {
-        None
-    };
-    let half = spectrum_point(
-        model,
-        size,
-        &format!("I{:.4}", 0.5 * i_c),
-        at(0.5 * i_c),
-        &spec_seeds,
-        tick,
-    )?;
-    out.push(match &near {
-        Some(near) => from_checks(
-            "one_over_f_ic",
-            &[alpha_check(
-                "one_over_f_at_i_c",
-                "PH95 Fig. 12a-b (1/f noise at I_c)",
-                near,
-                1.0,
-                ALPHA_MARGIN,
-            )],
-        ),
-        None => undecided(
-            "one_over_f_ic",
-            &format!("I_c not bracketed: no rate up to {i_c} clogs, so there is no I_c to measure the spectrum at"),
-        ),
-    });
-    out.push(from_checks(
-        "white_half_ic",
-        &[alpha_check(
-            "white_at_half_i_c",
-            "PH95 Fig. 12a-b (white noise away from I_c)",
-            &half,
-            0.0,
-            ALPHA_MARGIN,
-        )],
-    ));
-    let steps = size.spectrum_tier.pick(20_000, 50_000, 100_000);
-    let (s, _) = trend_test(
-        at(CLOG_INJECT),
-        model.rules,
-        model.engine,
-        seeds,
-        steps,
-        false,
-        tick,
-    )?;
-    out.push(from_checks("clogs_054", &[clogs_check(&s, CLOG_INJECT)]));
-    Ok(())
-}
 
 /// Steps [`grade`] reports through `tick` for one reading (nominal: runs
 /// that clog stop early, so the count is an upper bound).

@@ -1,7 +1,7 @@
 //! The drivers the figure binaries share, one layer above the models: an
 //! ensemble of density spectra ([`spectra`]), a sweep of spectra over a
 //! parameter ([`sweep`]), the open pipe's claims ([`open_pipe`]) and the reproduction matrix of the pipe readings
-//! ([`claims`]). They run the models, grade the claims and may read the
+//! ([`claims`]), with the margins they share ([`margins`]). They run the models, grade the claims and may read the
 //! command-line options ([`crate::cli`]); the models ([`crate::pipe`],
 //! [`crate::hopper`]) and the analysis ([`crate::analysis`]) never import this
 //! layer or the CLI.
@@ -9,6 +9,7 @@
 pub mod acceptance;
 pub mod acceptance_study;
 pub mod claims;
+pub mod margins;
 pub mod open_pipe;
 pub mod relaxation;
 pub mod spectra;

@@ -6,10 +6,10 @@
 
 use crate::analysis::grading::{Claim, Estimate, Kind, Verdict, MIN_RUNS};
 use crate::error::Result;
-use crate::pipe::engine::Engine;
 use crate::pipe::open::{
     correlation, onset_index, open_run, peak_index, stationarity, Stationarity,
 };
+use crate::pipe::Engine;
 use crate::pipe::{Boundary, Params, Rules};
 use crate::run::{ensemble, ensemble_until, threads, Check};
 use serde::{Deserialize, Serialize};

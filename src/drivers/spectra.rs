@@ -7,7 +7,7 @@ use crate::analysis::fit::{estimate_alpha, wave_velocity, AlphaEstimate};
 use crate::analysis::grading::{Claim, Estimate};
 use crate::analysis::spectrum::{average_spectra, spctrm, SpectrumParams, Window};
 use crate::error::Result;
-use crate::pipe::engine::Engine;
+use crate::pipe::Engine;
 use crate::pipe::{Params, Rules};
 use crate::plot::{line_chart_at, Line, PALETTE};
 use crate::run::{ensemble, mean_sem};

@@ -343,8 +343,8 @@ pub const FIG7_QUICK_ALPHA_P0: (f64, f64) = (-0.6019, 0.0217);
 pub const FIG7_QUICK_ALPHA_B0: (f64, f64) = (-3.0229, 0.0966);
 
 /// Margin Delta of the pinned alpha checks of the sweeps: the alpha margin
-/// of the matrix ([`super::claims::ALPHA_MARGIN`]), fixed in session 2.
-pub const PINNED_ALPHA_MARGIN: f64 = super::claims::ALPHA_MARGIN;
+/// of the matrix ([`super::margins::ALPHA_MARGIN`]), fixed in session 2.
+pub const PINNED_ALPHA_MARGIN: f64 = super::margins::ALPHA_MARGIN;
 
 impl PointResult {
     /// The per-run alpha of the valid runs as an estimate for grading.
@@ -384,11 +384,6 @@ pub fn fig7_check(
         &format!("internal consistency: alpha at {what} against waves-fig7; error = SE of the point and of the reference combined"),
     )
 }
-
-/// Margin Delta of "the wave speed does not change with p" (PH95 Fig.
-/// 8b, "within the error bars"): the published error bar of the wave speed,
-/// 0.05 (PH95 Fig. 5).
-pub const V_SAME_MARGIN: f64 = crate::pipe::overlap::SPEED_MARGIN;
 
 /// A published claim "`q` at point `r` equals `q` at `reference`" (PH95
 /// Fig. 8: alpha constant for every p > 0, v independent of p): the
@@ -490,7 +485,7 @@ pub struct SweepFigure<'a> {
     /// The parsed rule reading.
     pub rules: Rules,
     /// The engine that runs it (`--engine`).
-    pub engine: crate::pipe::engine::Engine,
+    pub engine: crate::pipe::Engine,
     /// Runs per point.
     pub runs: usize,
     /// The points, in order.
@@ -603,7 +598,7 @@ mod tests {
             Tier::Quick,
             params,
             Rules::default(),
-            crate::pipe::engine::Engine::Reference,
+            crate::pipe::Engine::Reference,
         );
         let point = SweepPoint {
             label: "x".into(),
@@ -639,7 +634,7 @@ mod tests {
             Tier::Quick,
             params,
             Rules::default(),
-            crate::pipe::engine::Engine::Reference,
+            crate::pipe::Engine::Reference,
         );
         match sweep_run(&setup, 1, &|_| {}).unwrap() {
             RunOutcome::Invalid(why) => assert!(why.contains("cannot be measured"), "{why}"),

@@ -25,7 +25,18 @@ const SCALE: f64 = 4_294_967_296.0;
 pub trait Draws {
     /// True with probability `t / 2^32`; no draw is made when the outcome is
     /// certain (t = 0 or t >= 2^32).
-    fn chance(&mut self, t: u64) -> bool;
+    #[inline]
+    fn chance(&mut self, t: u64) -> bool {
+        if t == 0 {
+            false
+        } else if t >= 1 << 32 {
+            true
+        } else {
+            self.uncertain(t)
+        }
+    }
+    /// [`Draws::chance`] for an uncertain outcome, 0 < t < 2^32.
+    fn uncertain(&mut self, t: u64) -> bool;
     /// An index k with probability (c[k] - c[k-1]) / 2^32 for the increasing
     /// cumulative thresholds `c` (the last index takes what is left).
     fn pick(&mut self, cumulative: &[u64]) -> usize;
@@ -37,14 +48,8 @@ pub trait Draws {
 
 impl Draws for Xoshiro256PlusPlus {
     #[inline]
-    fn chance(&mut self, t: u64) -> bool {
-        if t == 0 {
-            false
-        } else if t >= 1 << 32 {
-            true
-        } else {
-            (self.next_u32() as u64) < t
-        }
+    fn uncertain(&mut self, t: u64) -> bool {
+        (self.next_u32() as u64) < t
     }
 
     #[inline]
@@ -161,15 +166,9 @@ impl Enumerator {
 }
 
 impl Draws for Enumerator {
-    fn chance(&mut self, t: u64) -> bool {
-        if t == 0 {
-            false
-        } else if t >= 1 << 32 {
-            true
-        } else {
-            let q = t as f64 / SCALE;
-            self.branch(&[q, 1.0 - q]) == 0
-        }
+    fn uncertain(&mut self, t: u64) -> bool {
+        let q = t as f64 / SCALE;
+        self.branch(&[q, 1.0 - q]) == 0
     }
 
     fn pick(&mut self, cumulative: &[u64]) -> usize {

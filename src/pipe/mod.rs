@@ -9,7 +9,7 @@
 //!
 //! Where things are: the parameters here; the reference engine [`Pipe`] in
 //! [`mod@reference`], the fast engine in [`fast`], their common contract in
-//! [`engine`]; the rules' tables in [`collision`] and [`rules`], the shared
+//! [`engine`], the choice between them (`--engine`) in [`choice`]; the rules' tables in [`collision`] and [`rules`], the shared
 //! relocation in [`relocation`], the random draws in [`draws`]; what a run
 //! measures in [`observables`], [`record`], [`overlap`] and [`open`].
 //!
@@ -23,6 +23,7 @@
 //! assert_eq!(pipe.bin_counts().len(), 6); // bins of 10 rows
 //! ```
 
+pub mod choice;
 pub mod collision;
 pub mod draws;
 pub mod engine;
@@ -37,6 +38,7 @@ pub mod relocation;
 pub mod rules;
 pub mod stops;
 
+pub use choice::Engine;
 pub use observables::Flux;
 pub use reference::Pipe;
 pub use relocation::is_validity_limit;

@@ -3,7 +3,8 @@
 //! the exact mass bookkeeping, and the two-point correlation C(R, T) of
 //! MODEL.md A9 with its peak.
 
-use super::engine::{Engine, PipeEngine};
+use super::engine::PipeEngine;
+use super::Engine;
 use super::{Boundary, Params, Rules};
 use crate::error::{Error, ErrorKind, Result};
 use serde::{Deserialize, Serialize};

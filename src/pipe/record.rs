@@ -4,8 +4,9 @@
 //! steady-state fields of PH95 Figs. 4 and 5 ([`Steady`]) and the approach
 //! to the steady state of PH95 Fig. 3 ([`relaxation`]).
 
-use super::engine::{Engine, PipeEngine};
+use super::engine::PipeEngine;
 use super::observables::{contrast, random_start_bin_variance, s_low};
+use super::Engine;
 use super::{Params, Rules};
 use crate::error::Result;
 use crate::run::Tier;

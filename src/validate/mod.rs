@@ -384,27 +384,7 @@ pub fn markdown(r: &Report) -> String {
         }
     }
     if let Some(l) = &r.level2 {
-        s.push_str(&format!(
-            "## Level 2: scenes — {}\n\n{} runs per engine per scene, disjoint seeds; Welch two-sided tests, Holm family-wise false-alarm rate {}.\n\n\
-             | scene | observable | reference | candidate | difference | p-value | differs |\n|---|---|---|---|---|---|---|\n",
-            verdict(l.pass),
-            l.runs,
-            l.alpha
-        ));
-        for c in &l.comparisons {
-            s.push_str(&format!(
-                "| {} | {} | {:.5} ± {:.5} | {:.5} ± {:.5} | {:+.5} | {:.2e} | {} |\n",
-                c.scene,
-                c.observable,
-                c.reference.0,
-                c.reference.1,
-                c.candidate.0,
-                c.candidate.1,
-                c.difference,
-                c.p_value,
-                if c.differs { "**yes**" } else { "no" }
-            ));
-        }
+        level2_markdown(&mut s, "## Level 2: scenes", "Holm family-wise", l);
     }
     if let Some(h) = &r.hopper {
         hopper_markdown(&mut s, h);
@@ -441,26 +421,39 @@ fn hopper_markdown(s: &mut String, h: &HopperReport) {
         }
     }
     if let Some(l) = &h.level2 {
+        level2_markdown(
+            s,
+            "### Hopper level 2: fill-and-empty scenes",
+            "one Holm family over the hopper observables, family-wise",
+            l,
+        );
+    }
+}
+
+/// A level-2 section: `title`, its verdict, how it tested (`family`: the
+/// multiple-testing correction) and the comparisons, one row per observable.
+fn level2_markdown(s: &mut String, title: &str, family: &str, l: &Level2) {
+    s.push_str(&format!(
+        "{title} — {}\n\n{} runs per engine per scene, disjoint seeds; Welch two-sided tests, {family} false-alarm rate {}.\n\n",
+        if l.pass { "PASS" } else { "FAIL" },
+        l.runs,
+        l.alpha
+    ));
+    s.push_str(
+        "| scene | observable | reference | candidate | difference | p-value | differs |\n|---|---|---|---|---|---|---|\n",
+    );
+    for c in &l.comparisons {
         s.push_str(&format!(
-            "### Hopper level 2: fill-and-empty scenes — {}\n\n{} runs per engine per scene, disjoint seeds; Welch two-sided tests, one Holm family over the hopper observables, family-wise false-alarm rate {}.\n\n\
-             | scene | observable | reference | candidate | difference | p-value | differs |\n|---|---|---|---|---|---|---|\n",
-            verdict(l.pass),
-            l.runs,
-            l.alpha
+            "| {} | {} | {:.5} ± {:.5} | {:.5} ± {:.5} | {:+.5} | {:.2e} | {} |\n",
+            c.scene,
+            c.observable,
+            c.reference.0,
+            c.reference.1,
+            c.candidate.0,
+            c.candidate.1,
+            c.difference,
+            c.p_value,
+            if c.differs { "**yes**" } else { "no" }
         ));
-        for c in &l.comparisons {
-            s.push_str(&format!(
-                "| {} | {} | {:.5} ± {:.5} | {:.5} ± {:.5} | {:+.5} | {:.2e} | {} |\n",
-                c.scene,
-                c.observable,
-                c.reference.0,
-                c.reference.1,
-                c.candidate.0,
-                c.candidate.1,
-                c.difference,
-                c.p_value,
-                if c.differs { "**yes**" } else { "no" }
-            ));
-        }
     }
 }

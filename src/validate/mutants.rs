@@ -99,14 +99,8 @@ impl Mutant {
 pub struct TopBitLost(Xoshiro256PlusPlus);
 
 impl Draws for TopBitLost {
-    fn chance(&mut self, t: u64) -> bool {
-        if t == 0 {
-            false
-        } else if t >= 1 << 32 {
-            true
-        } else {
-            ((self.0.next_u32() >> 1) as u64) < t
-        }
+    fn uncertain(&mut self, t: u64) -> bool {
+        ((self.0.next_u32() >> 1) as u64) < t
     }
     fn pick(&mut self, cumulative: &[u64]) -> usize {
         let u = (self.0.next_u32() >> 1) as u64;

@@ -1,6 +1,8 @@
-//! Helpers shared by the acceptance tests that run a figure binary and read
-//! its `summary.json`.
+//! Helpers shared by the tests: running a figure binary and reading its
+//! `summary.json` (here), the model tests' set-ups ([`models`]).
 #![allow(dead_code)]
+
+pub mod models;
 
 use std::path::PathBuf;
 use std::process::Command;
