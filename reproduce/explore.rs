@@ -8,7 +8,7 @@
 use clap::Parser;
 use granular_automata::cli::{check_populated, check_steps, parse_runs, PipeRules};
 use granular_automata::pipe::record::{bands, record};
-use granular_automata::pipe::stops::{count_stops, COUNTED};
+use granular_automata::pipe::stops::count_stops;
 use granular_automata::pipe::Engine;
 use granular_automata::pipe::Params;
 use granular_automata::run::{derive_seed, ensemble};
@@ -113,84 +113,11 @@ fn stops(
     let lines = ensemble(a.runs, |i| -> granular_automata::Result<String> {
         let seed = derive_seed(a.seed, i as u64);
         let c = count_stops(params, rules, seed, a.steps - half, half)?;
-        let per = |k: usize, j: usize| c.stopped[k][j] as f64 / c.steps as f64;
         let mut line = format!(
             "{rules} (reference) p={} b={} g={} rho={} L={} W={} seed={seed} stops per step [nucleation, on jam]:",
             a.p, a.b, a.g, a.rho, a.length, a.width
         );
-        for (k, r) in COUNTED.iter().enumerate() {
-            line.push_str(&format!(" {r:?} [{:.3}, {:.3}]", per(k, 0), per(k, 1)));
-        }
-        let [nucleation, on_jam] = c.total();
-        line.push_str(&format!(
-            "; elsewhere {}; all stops per step {:.3}, on a jam {:.3} of them; share by R2/R3 {:.3} (on jams {:.3}); rest particles {:.1}, {:.3} of them with channel 4 empty",
-            c.stopped_elsewhere,
-            (nucleation + on_jam) as f64 / c.steps as f64,
-            on_jam as f64 / (nucleation + on_jam).max(1) as f64,
-            c.p_rule_share(false),
-            c.p_rule_share(true),
-            c.rest_particles as f64 / c.steps as f64,
-            c.rest_free_to_fall as f64 / c.rest_particles.max(1) as f64,
-        ));
-        // the lane's holes at the sites without a rest particle
-        let others = (params.sites() as u64 * c.steps).saturating_sub(c.rest_particles);
-        line.push_str(&format!(
-            "; sites without one: {:.4} with channel 4 empty",
-            (c.lane_holes - c.rest_free_to_fall) as f64 / others.max(1) as f64
-        ));
-        // a stack: rest particles with a rest particle just above, and the others
-        let top = c.rest_particles - c.rest_covered;
-        line.push_str(&format!(
-            "; rest particles under a rest particle {:.1} ({:.4} with channel 4 empty), the others {:.4}",
-            c.rest_covered as f64 / c.steps as f64,
-            c.rest_covered_free as f64 / c.rest_covered.max(1) as f64,
-            (c.rest_free_to_fall - c.rest_covered_free) as f64 / top.max(1) as f64
-        ));
-        // the same just before gravity
-        let others = (params.sites() as u64 * c.steps).saturating_sub(c.rest_before_gravity);
-        line.push_str(&format!(
-            "; before gravity: rest particles {:.1}, {:.4} of them with channel 4 empty, the other sites {:.4}",
-            c.rest_before_gravity as f64 / c.steps as f64,
-            c.rest_holes_before_gravity as f64 / c.rest_before_gravity.max(1) as f64,
-            (c.lane_holes_before_gravity - c.rest_holes_before_gravity) as f64 / others.max(1) as f64
-        ));
-        // the site above: its channel 4 before and after its collisions,
-        // above a site that holds a rest particle after them, and elsewhere
-        // "n/a" where there is nothing to divide by (no rest particle, or
-        // no hole elsewhere), never a 0 that looks measured
-        let frac =
-            |h: [u64; 2], k: usize| (c.above[k] > 0).then(|| h[k] as f64 / c.above[k] as f64);
-        let show =
-            |v: Option<f64>, digits: usize| v.map_or("n/a".into(), |v| format!("{v:.digits$}"));
-        line.push_str(&format!(
-            "; site above a rest particle: channel 4 empty {} before its collisions, {} after; above the other sites {}, {}",
-            show(frac(c.above_holes_before, 0), 4),
-            show(frac(c.holes_up[0], 0), 4),
-            show(frac(c.above_holes_before, 1), 4),
-            show(frac(c.holes_up[0], 1), 4)
-        ));
-        // by column: rest particles per step, and the lane's holes
-        line.push_str("; by column x = 0..W-1: rest particles per step");
-        for r in &c.rest_by_column {
-            line.push_str(&format!(" {:.1}", *r as f64 / c.steps as f64));
-        }
-        line.push_str(", channel 4 empty");
-        for h in &c.holes_by_column {
-            line.push_str(&format!(
-                " {:.3}",
-                *h as f64 / (c.steps * params.length as u64) as f64
-            ));
-        }
-        line.push_str(", stops per step");
-        for k in &c.stops_by_column {
-            line.push_str(&format!(" {:.3}", *k as f64 / c.steps as f64));
-        }
-        // how far up: the ratio of the two, d rows above
-        line.push_str("; ratio d rows above (d = 1..16):");
-        for h in c.holes_up {
-            let ratio = frac(h, 0).zip(frac(h, 1).filter(|&e| e > 0.0));
-            line.push_str(&format!(" {}", show(ratio.map(|(a, b)| a / b), 3)));
-        }
+        line.push_str(&c.describe(&params));
         Ok(line)
     });
     for l in lines {

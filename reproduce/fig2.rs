@@ -7,7 +7,7 @@
 
 use granular_automata::cli::PipeArgs;
 use granular_automata::drivers::margins::{ALPHA_MARGIN, V_MARGIN};
-use granular_automata::drivers::spectra::{run_figure, SpectrumFigure};
+use granular_automata::drivers::spectra::SpectrumFigure;
 use granular_automata::pipe::Params;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -25,11 +25,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         v_peak: Some((0.40, V_MARGIN)),
         note: "",
     };
-    run_figure(
-        &fig,
-        &args.common,
-        args.rules.parse()?,
-        args.rules.engine(args.common.tier)?,
-    )?;
+    fig.run(&args)?;
     Ok(())
 }

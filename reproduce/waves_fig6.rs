@@ -5,7 +5,7 @@
 
 use granular_automata::cli::PipeArgs;
 use granular_automata::drivers::margins::ALPHA_MARGIN;
-use granular_automata::drivers::spectra::{run_figure, SpectrumFigure};
+use granular_automata::drivers::spectra::SpectrumFigure;
 use granular_automata::pipe::Params;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -22,11 +22,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         v_peak: None,
         note: "; published 'about 1.33'",
     };
-    run_figure(
-        &fig,
-        &args.common,
-        args.rules.parse()?,
-        args.rules.engine(args.common.tier)?,
-    )?;
+    fig.run(&args)?;
     Ok(())
 }

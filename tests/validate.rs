@@ -8,11 +8,10 @@
 //! ("validate"), not here.
 
 use granular_automata::pipe::{Params, Rules};
-use granular_automata::run::Tier;
 use granular_automata::validate::candidate::Builtin;
 use granular_automata::validate::conformance::{exact, probes};
 use granular_automata::validate::mutants::MUTANTS;
-use granular_automata::validate::{validate, Level, Model, Size};
+use granular_automata::validate::{validate, Level, Model, Plan};
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -115,18 +114,12 @@ fn the_reference_passes_level_1_when_collisions_come_before_gravity() {
 
 #[test]
 fn every_hopper_mutant_fails_the_hopper_part_at_level_1() {
-    let size = Size::for_tier(Tier::Quick);
     let hopper_mutants: Vec<_> = MUTANTS.into_iter().filter(|(_, m)| m.is_hopper()).collect();
     assert_eq!(hopper_mutants.len(), 2);
     for (name, m) in hopper_mutants {
         let r = validate(
             &Builtin(m),
-            "default",
-            Level::One,
-            Model::Hopper,
-            Tier::Quick,
-            size,
-            3,
+            &Plan::quick(Level::One, Model::Hopper, 3),
             &|| {},
         )
         .unwrap();
@@ -146,7 +139,6 @@ fn every_hopper_mutant_fails_the_hopper_part_at_level_1() {
 
 #[test]
 fn the_beta_sign_mutant_also_fails_hopper_level_2() {
-    let size = Size::for_tier(Tier::Quick);
     let m = MUTANTS
         .into_iter()
         .find(|(n, _)| *n == "hopper-beta-sign")
@@ -154,12 +146,7 @@ fn the_beta_sign_mutant_also_fails_hopper_level_2() {
         .1;
     let r = validate(
         &Builtin(m),
-        "default",
-        Level::Two,
-        Model::Hopper,
-        Tier::Quick,
-        size,
-        3,
+        &Plan::quick(Level::Two, Model::Hopper, 3),
         &|| {},
     )
     .unwrap();
@@ -168,16 +155,10 @@ fn the_beta_sign_mutant_also_fails_hopper_level_2() {
 
 #[test]
 fn every_mutant_fails_level_1() {
-    let size = Size::for_tier(Tier::Quick);
     for (name, m) in MUTANTS.into_iter().filter(|(_, m)| !m.is_hopper()) {
         let r = validate(
             &Builtin(m),
-            "default",
-            Level::One,
-            Model::Pipe,
-            Tier::Quick,
-            size,
-            3,
+            &Plan::quick(Level::One, Model::Pipe, 3),
             &|| {},
         )
         .unwrap();

@@ -2,7 +2,8 @@
 //! compares candidate estimators over disjoint groups of runs and measures
 //! the spread over the papers' open choices ([`pilot`],
 //! [`open_choice_values`]), the power analysis ([`runs_to_decide`]), and
-//! the stability of the verdicts over base seeds ([`stability`]). The
+//! the stability of the verdicts over base seeds ([`stability`]); the whole
+//! pilot of one figure, printed and saved ([`pilot_study`]). The
 //! `acceptance` binary runs them; EXPERIMENTS.md "Acceptance at the
 //! published set-ups" records what they gave.
 
@@ -20,7 +21,11 @@ use crate::error::Result;
 use crate::run::median;
 use serde::Serialize;
 
-use super::spectra::{SpectrumRun, SpectrumSetup};
+use super::acceptance::margin;
+use super::spectra::{bin_series, resumable_ensemble, tier_setup, SpectrumRun, SpectrumSetup};
+use crate::cli::Common;
+use crate::pipe::{Engine, Params, Rules};
+use crate::run::{derive_seed, ensemble_with_threads, write_atomic};
 
 /// The median of per-run values with its bootstrap standard error.
 fn median_of(values: &[f64]) -> Result<Estimate> {
@@ -334,6 +339,168 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
         ));
     }
     Ok(out)
+}
+
+/// A pilot's set-up: the figure binary, its ensemble's name, the pipe, and
+/// the acceptance checks of its alpha and v (if any).
+struct PilotCase {
+    binary: &'static str,
+    name: &'static str,
+    params: Params,
+    alpha_check: &'static str,
+    v_check: Option<&'static str>,
+}
+
+/// The pilot case of `--figure`.
+fn case_of(figure: &str) -> crate::Result<PilotCase> {
+    let base = Params::default();
+    let case = |binary, name, params, alpha_check, v_check| PilotCase {
+        binary,
+        name,
+        params,
+        alpha_check,
+        v_check,
+    };
+    match figure {
+        "fig2" => Ok(case("fig2", "spectrum", base, "alpha", Some("v_peak"))),
+        "waves-fig6" => Ok(case(
+            "waves-fig6",
+            "spectrum",
+            Params { p: 0.8, ..base },
+            "alpha",
+            None,
+        )),
+        "waves-fig7-p0" => Ok(case(
+            "waves-fig7",
+            "p0",
+            Params { p: 0.0, ..base },
+            "alpha_p0",
+            None,
+        )),
+        "waves-fig7-b0" => Ok(case(
+            "waves-fig7",
+            "b0",
+            Params { b: 0.0, ..base },
+            "alpha_b0",
+            Some("v_peak_b0"),
+        )),
+        other => Err(crate::Error::out_of_range(
+            "--figure",
+            other,
+            "{fig2, waves-fig6, waves-fig7-p0, waves-fig7-b0}",
+        )),
+    }
+}
+
+/// `acceptance pilot`: the pilot study of one figure's acceptance check
+/// (issue 29): `runs` pilot runs (default 384, saved and resumed) graded
+/// by every candidate estimator over disjoint groups of `group` runs, the
+/// spread over the papers' open choices on the first `open_runs` runs, and
+/// the runs each check needs to decide; printed and written to
+/// `OUT/<binary>/pilot-<name>-group<group>.json`.
+pub fn pilot_study(common: &Common, figure: &str, group: usize, open_runs: usize) -> Result<()> {
+    let case = case_of(figure)?;
+    let setup = tier_setup(common.tier, case.params, Rules::default(), Engine::Fast);
+    let runs = common.runs.unwrap_or(384);
+    if group < 3 || group > runs {
+        return Err(crate::Error::out_of_range(
+            "--group",
+            group,
+            &format!("[3, {runs}]"),
+        ));
+    }
+    let Some(ens) = resumable_ensemble(common, case.binary, case.name, &setup, runs)? else {
+        return Ok(());
+    };
+    let report = pilot(&setup, &ens.runs, group)?;
+    println!(
+        "{figure}: {runs} pilot runs, base seed {}, groups of {group}",
+        common.seed
+    );
+    println!(
+        "{:48} {:>9} {:>9} {:>9} {:>6} {:>8}",
+        "estimator", "pooled", "mean SE", "SD grp", "ratio", "coverage"
+    );
+    for c in &report {
+        println!(
+            "{:48} {:>9.4} {:>9.4} {:>9.4} {:>6.2} {:>8.2}",
+            c.name, c.pooled, c.mean_se, c.sd_between, c.ratio, c.coverage
+        );
+    }
+    let n_open = open_runs.min(runs);
+    let seeds: Vec<u64> = (0..n_open as u64)
+        .map(|i| derive_seed(common.seed, i))
+        .collect();
+    let series = ensemble_with_threads(n_open, common.thread_count(), |i| {
+        bin_series(&setup, seeds[i], &|_| {})
+    })
+    .into_iter()
+    .collect::<crate::Result<Vec<_>>>()?;
+    let open = if n_open >= 1 {
+        open_choice_values(&setup, &series)?
+    } else {
+        Vec::new()
+    };
+    let (mut sa, mut sv, mut sr) = (0f64, 0f64, 0f64);
+    if let Some(&(_, a0, v0, r0)) = open.first() {
+        println!("open choices on the first {n_open} runs (alpha, v, v refined of the averaged spectrum):");
+        for (name, a, v, r) in &open {
+            println!(
+                "  {name:24} alpha {a:.4} ({:+.4})  v {v:.4} ({:+.4})  v refined {r:.4} ({:+.4})",
+                a - a0,
+                v - v0,
+                r - r0
+            );
+            sa = sa.max((a - a0).abs());
+            sv = sv.max((v - v0).abs());
+            sr = sr.max((r - r0).abs());
+        }
+        println!("s_open: alpha {sa:.4}, v {sv:.4}, v refined {sr:.4}");
+    }
+    // power: runs to decide each check from the pilot's pooled value
+    // and its per-run spread (SE of a group x sqrt(group)).
+    for (check, cand) in [
+        (
+            Some(case.alpha_check),
+            "alpha: fit of mean spectrum (jackknife)",
+        ),
+        (case.v_check, "v: peak of mean spectrum (bootstrap)"),
+    ] {
+        let (Some(check), Some(c)) = (check, report.iter().find(|c| c.name == cand)) else {
+            continue;
+        };
+        let Some(m) = margin(case.binary, check) else {
+            println!("power {check}: no acceptance margin yet");
+            continue;
+        };
+        let sigma = c.mean_se * (group as f64).sqrt();
+        let d = c.pooled - m.published;
+        let n = runs_to_decide(d, m.delta(), sigma);
+        println!(
+            "power {check}: d = {d:+.4}, Delta = {:.4}, sigma per run = {sigma:.4}: {} runs decide in 95 % of seed sets",
+            m.delta(),
+            n.map_or("no number of".to_string(), |n| format!("{:.0}", n.ceil()))
+        );
+    }
+    let json = serde_json::json!({
+        "figure": figure, "seed": common.seed, "runs": runs, "group": group,
+        "candidates": report,
+        "open_choices": open.iter().map(|(n, a, v, r)| serde_json::json!({"choice": n, "alpha": a, "v": v, "v_refined": r})).collect::<Vec<_>>(),
+        "s_open_alpha": sa, "s_open_v": sv, "s_open_v_refined": sr,
+    });
+    let path = common
+        .out
+        .join(case.binary)
+        .join(format!("pilot-{}-group{group}.json", case.name));
+    let text = serde_json::to_string_pretty(&json).map_err(|e| {
+        crate::Error::new(
+            crate::error::ErrorKind::Io,
+            format!("{}: {e}", path.display()),
+        )
+    })?;
+    write_atomic(&path, text.as_bytes())?;
+    println!("wrote {}", path.display());
+    Ok(())
 }
 
 #[cfg(test)]

@@ -9,8 +9,11 @@
 pub mod acceptance;
 pub mod acceptance_study;
 pub mod claims;
+pub mod critical;
 pub mod margins;
+pub mod matrix;
 pub mod open_pipe;
 pub mod relaxation;
 pub mod spectra;
 pub mod sweep;
+pub mod white_noise;

@@ -27,34 +27,18 @@ pub fn fig3_checks(c: &Saturation, e: &Saturation, runs: usize) -> Vec<Check> {
         target: 0.0,
         margin: SATURATION_MARGIN,
     };
-    vec![
-        Check::published(
-            "contrast_rises",
-            "PH95 Fig. 3a (C rises from its start)",
-            est(c_rise, c_rise_err),
-            Claim::Above { threshold: 0.0 },
-            "C_sat - C(0) per run > 0",
-        ),
-        Check::published(
-            "contrast_saturates",
-            "PH95 Fig. 3a (C saturates)",
-            ratio((c_drift, c_drift_err), c_rise),
-            saturated,
-            "(mean over the last quarter - mean over the third quarter) / |C_sat - C(0)| within 0.1 of 0",
-        ),
-        Check::published(
-            "energy_loss_rises",
-            "PH95 Fig. 3b (E(0) - E(t) rises)",
-            est(e_sat, e_sat_err),
-            Claim::Above { threshold: 0.0 },
-            "saturation value of E(0) - E(t) > 0",
-        ),
-        Check::published(
-            "energy_loss_saturates",
-            "PH95 Fig. 3b (E(0) - E(t) saturates)",
-            ratio((e_drift, e_drift_err), e_sat),
-            saturated,
-            "(last quarter - third quarter) / saturation value of E(0) - E(t) within 0.1 of 0",
-        ),
-    ]
+    let above_zero = Claim::Above { threshold: 0.0 };
+    // (name, source, statistic, claim, how it is measured)
+    #[rustfmt::skip]
+    let rows = [
+        ("contrast_rises", "PH95 Fig. 3a (C rises from its start)", est(c_rise, c_rise_err), above_zero, "C_sat - C(0) per run > 0"),
+        ("contrast_saturates", "PH95 Fig. 3a (C saturates)", ratio((c_drift, c_drift_err), c_rise), saturated,
+            "(mean over the last quarter - mean over the third quarter) / |C_sat - C(0)| within 0.1 of 0"),
+        ("energy_loss_rises", "PH95 Fig. 3b (E(0) - E(t) rises)", est(e_sat, e_sat_err), above_zero, "saturation value of E(0) - E(t) > 0"),
+        ("energy_loss_saturates", "PH95 Fig. 3b (E(0) - E(t) saturates)", ratio((e_drift, e_drift_err), e_sat), saturated,
+            "(last quarter - third quarter) / saturation value of E(0) - E(t) within 0.1 of 0"),
+    ];
+    rows.into_iter()
+        .map(|(name, source, stat, claim, how)| Check::published(name, source, stat, claim, how))
+        .collect()
 }

@@ -390,6 +390,15 @@ pub struct SpectrumFigure<'a> {
     pub note: &'a str,
 }
 
+impl SpectrumFigure<'_> {
+    /// [`run_figure`] with the reading and engine of the command line `args`.
+    pub fn run(&self, args: &crate::cli::PipeArgs) -> Result<Option<crate::run::Summary>> {
+        let rules = args.rules.parse()?;
+        let engine = args.rules.engine(args.common.tier)?;
+        run_figure(self, &args.common, rules, engine)
+    }
+}
+
 /// Run an ensemble of spectra for `fig` at the options `common` and `rules`
 /// (resumable and shardable, see [`resumable_ensemble`]; `None` after a
 /// shard), write `spectrum.csv`, `runs.csv`, the PNG and `summary.json` (metrics

@@ -106,6 +106,90 @@ impl StopCounts {
             p as f64 / all as f64
         }
     }
+
+    /// The counts as text, per step over the counted steps (`explore
+    /// --stops`): each counted rule's stops at the nucleation of a jam and on
+    /// a jam, the shares by R2/R3, the lane's holes at and above rest
+    /// particles, by column, and how far up. "n/a" where there is nothing to
+    /// divide by, never a 0 that looks measured.
+    pub fn describe(&self, params: &Params) -> String {
+        let per = |k: usize, j: usize| self.stopped[k][j] as f64 / self.steps as f64;
+        let mut line = String::new();
+        for (k, r) in COUNTED.iter().enumerate() {
+            line.push_str(&format!(" {r:?} [{:.3}, {:.3}]", per(k, 0), per(k, 1)));
+        }
+        let [nucleation, on_jam] = self.total();
+        line.push_str(&format!(
+        "; elsewhere {}; all stops per step {:.3}, on a jam {:.3} of them; share by R2/R3 {:.3} (on jams {:.3}); rest particles {:.1}, {:.3} of them with channel 4 empty",
+        self.stopped_elsewhere,
+        (nucleation + on_jam) as f64 / self.steps as f64,
+        on_jam as f64 / (nucleation + on_jam).max(1) as f64,
+        self.p_rule_share(false),
+        self.p_rule_share(true),
+        self.rest_particles as f64 / self.steps as f64,
+        self.rest_free_to_fall as f64 / self.rest_particles.max(1) as f64,
+    ));
+        // the lane's holes at the sites without a rest particle
+        let others = (params.sites() as u64 * self.steps).saturating_sub(self.rest_particles);
+        line.push_str(&format!(
+            "; sites without one: {:.4} with channel 4 empty",
+            (self.lane_holes - self.rest_free_to_fall) as f64 / others.max(1) as f64
+        ));
+        // a stack: rest particles with a rest particle just above, and the others
+        let top = self.rest_particles - self.rest_covered;
+        line.push_str(&format!(
+        "; rest particles under a rest particle {:.1} ({:.4} with channel 4 empty), the others {:.4}",
+        self.rest_covered as f64 / self.steps as f64,
+        self.rest_covered_free as f64 / self.rest_covered.max(1) as f64,
+        (self.rest_free_to_fall - self.rest_covered_free) as f64 / top.max(1) as f64
+    ));
+        // the same just before gravity
+        let others = (params.sites() as u64 * self.steps).saturating_sub(self.rest_before_gravity);
+        line.push_str(&format!(
+        "; before gravity: rest particles {:.1}, {:.4} of them with channel 4 empty, the other sites {:.4}",
+        self.rest_before_gravity as f64 / self.steps as f64,
+        self.rest_holes_before_gravity as f64 / self.rest_before_gravity.max(1) as f64,
+        (self.lane_holes_before_gravity - self.rest_holes_before_gravity) as f64 / others.max(1) as f64
+    ));
+        // the site above: its channel 4 before and after its collisions,
+        // above a site that holds a rest particle after them, and elsewhere
+        // "n/a" where there is nothing to divide by (no rest particle, or
+        // no hole elsewhere), never a 0 that looks measured
+        let frac =
+            |h: [u64; 2], k: usize| (self.above[k] > 0).then(|| h[k] as f64 / self.above[k] as f64);
+        let show =
+            |v: Option<f64>, digits: usize| v.map_or("n/a".into(), |v| format!("{v:.digits$}"));
+        line.push_str(&format!(
+        "; site above a rest particle: channel 4 empty {} before its collisions, {} after; above the other sites {}, {}",
+        show(frac(self.above_holes_before, 0), 4),
+        show(frac(self.holes_up[0], 0), 4),
+        show(frac(self.above_holes_before, 1), 4),
+        show(frac(self.holes_up[0], 1), 4)
+    ));
+        // by column: rest particles per step, and the lane's holes
+        line.push_str("; by column x = 0..W-1: rest particles per step");
+        for r in &self.rest_by_column {
+            line.push_str(&format!(" {:.1}", *r as f64 / self.steps as f64));
+        }
+        line.push_str(", channel 4 empty");
+        for h in &self.holes_by_column {
+            line.push_str(&format!(
+                " {:.3}",
+                *h as f64 / (self.steps * params.length as u64) as f64
+            ));
+        }
+        line.push_str(", stops per step");
+        for k in &self.stops_by_column {
+            line.push_str(&format!(" {:.3}", *k as f64 / self.steps as f64));
+        }
+        // how far up: the ratio of the two, d rows above
+        line.push_str("; ratio d rows above (d = 1..16):");
+        for h in self.holes_up {
+            let ratio = frac(h, 0).zip(frac(h, 1).filter(|&e| e > 0.0));
+            line.push_str(&format!(" {}", show(ratio.map(|(a, b)| a / b), 3)));
+        }
+        line
+    }
 }
 
 /// `steps` steps of the reference engine from `seed`, counting from step

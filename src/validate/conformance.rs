@@ -234,6 +234,19 @@ pub struct TableProbe {
     pub states: Vec<BTreeMap<String, f64>>,
 }
 
+/// `validate --export-table`: the exact table of `rules` at the default
+/// parameters, as JSON, to `path` (for an external candidate's own tests).
+pub fn export_table(path: &std::path::Path, rules: Rules) -> Result<()> {
+    let t = table(&Params::default(), rules)?;
+    let text = serde_json::to_string(&t).map_err(|e| {
+        crate::error::Error::new(
+            crate::error::ErrorKind::Io,
+            format!("{}: {e}", path.display()),
+        )
+    })?;
+    crate::run::write_atomic(path, text.as_bytes())
+}
+
 /// The whole exact table for `base` (p, g, b) and `rules`.
 pub fn table(base: &Params, rules: Rules) -> Result<Table> {
     let mut max_truncated_mass: f64 = 0.0;

@@ -16,6 +16,7 @@ pub mod candidate;
 pub mod conformance;
 pub mod hopper;
 pub mod mutants;
+pub mod repeat;
 pub mod scenes;
 
 use crate::error::{Error, ErrorKind, Result};
@@ -187,20 +188,51 @@ pub fn check_model(cand: &dyn Candidate, model: Model) -> Result<()> {
     Ok(())
 }
 
-/// Run `levels` of `model` for `cand` against the reference with the pipe
-/// rule reading `rules`; `tick` is called once per finished job (progress).
-/// Asking for the hopper alone of a candidate without one is an error.
-#[allow(clippy::too_many_arguments)]
-pub fn validate(
-    cand: &dyn Candidate,
-    rules: &str,
-    levels: Level,
-    model: Model,
-    tier: Tier,
-    size: Size,
-    seed: u64,
-    tick: &(dyn Fn() + Sync),
-) -> Result<Report> {
+/// What one validation runs (VALIDATION.md): the pipe rule reading, the
+/// levels, the automata, the tier with its sizes, and the base seed.
+#[derive(Debug, Clone, Copy)]
+pub struct Plan<'a> {
+    /// The pipe rule reading compared (names joined by '+').
+    pub rules: &'a str,
+    /// Level 1, level 2 or both.
+    pub levels: Level,
+    /// The pipe, the hopper or both.
+    pub model: Model,
+    /// The tier of the scenes.
+    pub tier: Tier,
+    /// Trials and runs.
+    pub size: Size,
+    /// Base seed of the reference's runs (the candidate's are disjoint).
+    pub seed: u64,
+}
+
+impl Plan<'static> {
+    /// `levels` of `model` at the quick tier and its sizes, default reading.
+    pub fn quick(levels: Level, model: Model, seed: u64) -> Self {
+        let (rules, tier, size) = ("default", Tier::Quick, Size::for_tier(Tier::Quick));
+        Plan {
+            rules,
+            levels,
+            model,
+            tier,
+            size,
+            seed,
+        }
+    }
+}
+
+/// Run `plan` for `cand` against the reference; `tick` is called once per
+/// finished job (progress). Asking for the hopper alone of a candidate
+/// without one is an error.
+pub fn validate(cand: &dyn Candidate, plan: &Plan, tick: &(dyn Fn() + Sync)) -> Result<Report> {
+    let Plan {
+        rules,
+        levels,
+        model,
+        tier,
+        size,
+        seed,
+    } = *plan;
     let start = std::time::Instant::now();
     let _: Rules = rules.parse()?;
     check_model(cand, model)?;
@@ -235,7 +267,7 @@ pub fn validate(
         None
     };
     let hopper = if model.hopper() {
-        Some(hopper_part(cand, levels, tier, size, seed, tick)?)
+        Some(hopper_part(cand, plan, tick)?)
     } else {
         None
     };
@@ -262,14 +294,19 @@ pub fn validate(
     })
 }
 
+/// The hopper's part of [`validate`].
 fn hopper_part(
     cand: &dyn Candidate,
-    levels: Level,
-    tier: Tier,
-    size: Size,
-    seed: u64,
+    plan: &Plan,
     tick: &(dyn Fn() + Sync),
 ) -> Result<HopperReport> {
+    let Plan {
+        levels,
+        tier,
+        size,
+        seed,
+        ..
+    } = *plan;
     let scenes = hopper::hopper_scenes(tier);
     let Some(h) = cand.hopper() else {
         return Ok(HopperReport {
@@ -390,6 +427,63 @@ pub fn markdown(r: &Report) -> String {
         hopper_markdown(&mut s, h);
     }
     s
+}
+
+/// The lines `validate` prints: one per level run (verdict and counts),
+/// the hopper's status and levels, then the verdict and where the report
+/// is (`dir`).
+pub fn summary_lines(r: &Report, dir: &std::path::Path) -> Vec<String> {
+    let verdict = |p: bool| if p { "PASS" } else { "FAIL" };
+    let differing = |l: &Level2| l.comparisons.iter().filter(|c| c.differs).count();
+    let mut lines = Vec::new();
+    if let Some(l) = &r.level1 {
+        lines.push(format!(
+            "level 1: {} ({} differences in {} tests, {} trials per state)",
+            verdict(l.pass),
+            l.differences.len(),
+            l.tests,
+            l.trials
+        ));
+    }
+    if let Some(l) = &r.level2 {
+        lines.push(format!(
+            "level 2: {} ({} of {} observables differ, {} runs per engine)",
+            verdict(l.pass),
+            differing(l),
+            l.comparisons.len(),
+            l.runs
+        ));
+    }
+    if let Some(h) = &r.hopper {
+        lines.push(format!("hopper: {}", h.status));
+        if let Some(l) = &h.level1 {
+            lines.push(format!(
+                "hopper level 1: {} ({} differences; {} energies, {} conflicts, {} spacings)",
+                verdict(l.pass),
+                l.failed,
+                l.energies,
+                l.conflicts,
+                l.spacings
+            ));
+        }
+        if let Some(l) = &h.level2 {
+            lines.push(format!(
+                "hopper level 2: {} ({} of {} observables differ, {} runs per engine)",
+                verdict(l.pass),
+                differing(l),
+                l.comparisons.len(),
+                l.runs
+            ));
+        }
+    }
+    lines.push(format!(
+        "{}: {} ({:.1} s); report in {}",
+        r.candidate,
+        verdict(r.pass),
+        r.wall_seconds,
+        dir.display()
+    ));
+    lines
 }
 
 fn hopper_markdown(s: &mut String, h: &HopperReport) {
