@@ -114,21 +114,8 @@ fn run(args: &Args, setup: Setup) -> Result<bool, Box<dyn std::error::Error>> {
         }
         Setup::Validate(cand, size) => (cand, size),
     };
-    let (rules, levels, model, tier, seed) = (
-        args.rules.as_str(),
-        args.level,
-        args.model,
-        args.tier,
-        args.seed,
-    );
-    let plan = Plan {
-        rules,
-        levels,
-        model,
-        tier,
-        size,
-        seed,
-    };
+    let (levels, model, tier) = (args.level, args.model, args.tier);
+    let plan = Plan::new(&args.rules, levels, model, tier, size, args.seed);
     let out = Output::new(&args.out, "validate")?;
     if let Some(n) = args.repeat {
         let name = args.candidate.as_str();

@@ -35,6 +35,20 @@ pub trait PipeEngine: Send {
     fn rules(&self) -> Rules;
     /// Change the dissipation p mid-run (PH94 Fig. 1c); validated.
     fn set_p(&mut self, p: f64) -> Result<()>;
+    /// Every occupied site `(x, y, state byte)`, column by column.
+    fn occupied_sites(&self) -> Vec<(usize, usize, u8)> {
+        let p = self.params();
+        let mut v = Vec::new();
+        for x in 0..p.width {
+            for y in 0..p.length {
+                let s = self.site(x, y);
+                if s != 0 {
+                    v.push((x, y, s));
+                }
+            }
+        }
+        v
+    }
     /// Advance `steps` steps.
     fn run(&mut self, steps: u64) -> Result<()> {
         for _ in 0..steps {

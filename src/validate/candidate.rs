@@ -131,19 +131,7 @@ fn sample(e: &dyn PipeEngine, t: u64, bins: &[f64], with_sites: bool) -> Sample 
         out_bottom,
         out_top,
     } = e.flux();
-    let sites = with_sites.then(|| {
-        let p = e.params();
-        let mut v = Vec::new();
-        for x in 0..p.width {
-            for y in 0..p.length {
-                let s = e.site(x, y);
-                if s != 0 {
-                    v.push((x, y, s));
-                }
-            }
-        }
-        v
-    });
+    let sites = with_sites.then(|| e.occupied_sites());
     Sample {
         t,
         bins: bins.to_vec(),

@@ -22,6 +22,7 @@
 use super::candidate::{Candidate, RunPlan};
 use crate::error::{Error, Result};
 use crate::pipe::draws::Enumerator;
+use crate::pipe::engine::PipeEngine;
 use crate::pipe::{Boundary, Params, Pipe, Rules};
 use crate::run::derive_seed;
 use serde::Serialize;
@@ -184,15 +185,7 @@ pub fn exact(
         let mut p = pipe.clone().with_draws(e.take().expect("enumerator"));
         p.set_site(x0, y0, state);
         p.step()?;
-        let mut sites = Vec::new();
-        for x in 0..params.width {
-            for y in 0..params.length {
-                let s = p.site(x, y);
-                if s != 0 {
-                    sites.push((x, y, s));
-                }
-            }
-        }
+        let sites = PipeEngine::occupied_sites(&p);
         let f = p.flux();
         let o: Outcome = (particles(&sites, y0), [f.injected, f.out_bottom, f.out_top]);
         let mut en = p.into_draws();

@@ -16,7 +16,7 @@
 //!
 //! [`Hopper`]: crate::hopper::Hopper
 
-use super::scenes::{compare, mean_se, Level2, CANDIDATE_SALT};
+use super::scenes::{compare, mean_se, Level2, Sampling, CANDIDATE_SALT};
 use crate::error::{Error, ErrorKind, Result};
 use crate::hopper::energy::{motion, orientation, state, STATES};
 use crate::hopper::engine::{HopperBuilder, HopperEngine};
@@ -697,21 +697,12 @@ fn run_all(
 /// Level 2 for the hopper: every observable of every scene, Welch tests,
 /// one Holm family at `alpha` over the hopper comparisons.
 pub fn level2(
-    reference: &dyn HopperBuilder,
-    cand: &dyn HopperBuilder,
+    (reference, cand): (&dyn HopperBuilder, &dyn HopperBuilder),
     scenes: &[HopperScene],
-    runs: usize,
-    seed: u64,
-    alpha: f64,
+    sampling: Sampling,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Level2> {
-    if runs < 3 {
-        return Err(Error::out_of_range(
-            "level 2 runs per engine",
-            runs,
-            "[3, 10000]",
-        ));
-    }
+    let Sampling { runs, seed, alpha } = sampling;
     let (r, wr) = run_all(reference, scenes, runs, seed, tick)?;
     let (c, wc) = run_all(cand, scenes, runs, seed ^ CANDIDATE_SALT, tick)?;
     let names: Vec<&str> = scenes.iter().map(|sc| sc.name).collect();

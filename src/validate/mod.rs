@@ -20,6 +20,7 @@ pub mod repeat;
 pub mod scenes;
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::hopper::engine::HopperBuilder;
 use crate::pipe::engine::Reference;
 use crate::pipe::{Params, Rules};
 use crate::run::Tier;
@@ -206,10 +207,17 @@ pub struct Plan<'a> {
     pub seed: u64,
 }
 
-impl Plan<'static> {
-    /// `levels` of `model` at the quick tier and its sizes, default reading.
-    pub fn quick(levels: Level, model: Model, seed: u64) -> Self {
-        let (rules, tier, size) = ("default", Tier::Quick, Size::for_tier(Tier::Quick));
+impl<'a> Plan<'a> {
+    /// A plan of `levels` of `model` for the reading `rules` at `tier` with
+    /// `size`, from base seed `seed`.
+    pub fn new(
+        rules: &'a str,
+        levels: Level,
+        model: Model,
+        tier: Tier,
+        size: Size,
+        seed: u64,
+    ) -> Self {
         Plan {
             rules,
             levels,
@@ -221,18 +229,20 @@ impl Plan<'static> {
     }
 }
 
+impl Plan<'static> {
+    /// `levels` of `model` at the quick tier and its sizes, default reading.
+    pub fn quick(levels: Level, model: Model, seed: u64) -> Self {
+        let size = Size::for_tier(Tier::Quick);
+        Plan::new("default", levels, model, Tier::Quick, size, seed)
+    }
+}
+
 /// Run `plan` for `cand` against the reference; `tick` is called once per
 /// finished job (progress). Asking for the hopper alone of a candidate
 /// without one is an error.
 pub fn validate(cand: &dyn Candidate, plan: &Plan, tick: &(dyn Fn() + Sync)) -> Result<Report> {
-    let Plan {
-        rules,
-        levels,
-        model,
-        tier,
-        size,
-        seed,
-    } = *plan;
+    let (rules, levels, model, tier) = (plan.rules, plan.levels, plan.model, plan.tier);
+    let (size, seed) = (plan.size, plan.seed);
     let start = std::time::Instant::now();
     let _: Rules = rules.parse()?;
     check_model(cand, model)?;
@@ -253,14 +263,14 @@ pub fn validate(cand: &dyn Candidate, plan: &Plan, tick: &(dyn Fn() + Sync)) -> 
         None
     };
     let level2 = if model.pipe() && two {
+        let sampling = scenes::Sampling::new(size.runs, seed, ALPHA)?;
+        let reference = Builtin(Reference);
+        let engines = (&reference as &dyn Candidate, cand);
         Some(scenes::level2(
-            &Builtin(Reference),
-            cand,
+            engines,
             &scenes::scenes(tier),
             rules,
-            size.runs,
-            seed,
-            ALPHA,
+            sampling,
             tick,
         )?)
     } else {
@@ -300,13 +310,7 @@ fn hopper_part(
     plan: &Plan,
     tick: &(dyn Fn() + Sync),
 ) -> Result<HopperReport> {
-    let Plan {
-        levels,
-        tier,
-        size,
-        seed,
-        ..
-    } = *plan;
+    let (levels, tier, size, seed) = (plan.levels, plan.tier, plan.size, plan.seed);
     let scenes = hopper::hopper_scenes(tier);
     let Some(h) = cand.hopper() else {
         return Ok(HopperReport {
@@ -325,15 +329,9 @@ fn hopper_part(
         None
     };
     let level2 = if levels != Level::One {
-        Some(hopper::level2(
-            &crate::hopper::engine::Reference,
-            h,
-            &scenes,
-            size.hopper_runs,
-            seed,
-            ALPHA,
-            tick,
-        )?)
+        let sampling = scenes::Sampling::new(size.hopper_runs, seed, ALPHA)?;
+        let engines = (&crate::hopper::engine::Reference as &dyn HopperBuilder, h);
+        Some(hopper::level2(engines, &scenes, sampling, tick)?)
     } else {
         None
     };
@@ -434,7 +432,15 @@ pub fn markdown(r: &Report) -> String {
 /// is (`dir`).
 pub fn summary_lines(r: &Report, dir: &std::path::Path) -> Vec<String> {
     let verdict = |p: bool| if p { "PASS" } else { "FAIL" };
-    let differing = |l: &Level2| l.comparisons.iter().filter(|c| c.differs).count();
+    let level2 = |name: &str, l: &Level2| {
+        let differing = l.comparisons.iter().filter(|c| c.differs).count();
+        format!(
+            "{name}: {} ({differing} of {} observables differ, {} runs per engine)",
+            verdict(l.pass),
+            l.comparisons.len(),
+            l.runs
+        )
+    };
     let mut lines = Vec::new();
     if let Some(l) = &r.level1 {
         lines.push(format!(
@@ -446,13 +452,7 @@ pub fn summary_lines(r: &Report, dir: &std::path::Path) -> Vec<String> {
         ));
     }
     if let Some(l) = &r.level2 {
-        lines.push(format!(
-            "level 2: {} ({} of {} observables differ, {} runs per engine)",
-            verdict(l.pass),
-            differing(l),
-            l.comparisons.len(),
-            l.runs
-        ));
+        lines.push(level2("level 2", l));
     }
     if let Some(h) = &r.hopper {
         lines.push(format!("hopper: {}", h.status));
@@ -467,13 +467,7 @@ pub fn summary_lines(r: &Report, dir: &std::path::Path) -> Vec<String> {
             ));
         }
         if let Some(l) = &h.level2 {
-            lines.push(format!(
-                "hopper level 2: {} ({} of {} observables differ, {} runs per engine)",
-                verdict(l.pass),
-                differing(l),
-                l.comparisons.len(),
-                l.runs
-            ));
+            lines.push(level2("hopper level 2", l));
         }
     }
     lines.push(format!(

@@ -300,25 +300,43 @@ pub fn compare(
     comparisons
 }
 
-/// Level 2: compare `cand` with `reference` on every scene.
-#[allow(clippy::too_many_arguments)]
+/// How level 2 samples (pipe and hopper): runs per engine per scene, the
+/// reference's base seed (the candidate's seeds are disjoint from it), and
+/// the family-wise false-alarm rate of the Holm family.
+#[derive(Debug, Clone, Copy)]
+pub struct Sampling {
+    /// Runs per engine per scene, at least 3.
+    pub runs: usize,
+    /// Base seed of the reference's runs.
+    pub seed: u64,
+    /// Family-wise false-alarm rate.
+    pub alpha: f64,
+}
+
+impl Sampling {
+    /// A sampling of `runs` runs (an error below 3: Welch's test needs them).
+    pub fn new(runs: usize, seed: u64, alpha: f64) -> Result<Self> {
+        if runs < 3 {
+            return Err(crate::Error::out_of_range(
+                "level 2 runs per engine",
+                runs,
+                "[3, 10000]",
+            ));
+        }
+        Ok(Sampling { runs, seed, alpha })
+    }
+}
+
+/// Level 2: compare `cand` with `reference` on every scene of the pipe
+/// reading `rules`.
 pub fn level2(
-    reference: &dyn Candidate,
-    cand: &dyn Candidate,
+    (reference, cand): (&dyn Candidate, &dyn Candidate),
     scenes: &[Scene],
     rules: &str,
-    runs: usize,
-    seed: u64,
-    alpha: f64,
+    sampling: Sampling,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Level2> {
-    if runs < 3 {
-        return Err(crate::Error::out_of_range(
-            "level 2 runs per engine",
-            runs,
-            "[3, 10000]",
-        ));
-    }
+    let Sampling { runs, seed, alpha } = sampling;
     let r = run_scenes(reference, scenes, rules, runs, seed, tick)?;
     let c = run_scenes(cand, scenes, rules, runs, seed ^ CANDIDATE_SALT, tick)?;
     let names: Vec<&str> = scenes.iter().map(|sc| sc.name).collect();
