@@ -4,10 +4,13 @@
 //! pipe run (L = 40, W = 5, 300 steps), so the tests are exact, not
 //! statistical.
 
+mod common;
+
 use granular_automata::ensemble::{merge, Ensemble, Outcome, Shard};
 use granular_automata::error::{Error, ErrorKind};
 use granular_automata::pipe::record::{record, Record};
 use granular_automata::pipe::{Params, Pipe, Rules};
+use std::ffi::OsStr;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -16,9 +19,7 @@ const SEED: u64 = 20260611;
 const RUNS: usize = 7;
 
 fn fresh(tag: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("ensemble-{tag}"));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+    common::fresh_dir(&format!("ensemble-{tag}"))
 }
 
 fn key() -> serde_json::Value {
@@ -250,13 +251,14 @@ fn figure_binary_shards_merge_and_resume() {
         want
     );
     // a bad shard is a clear error naming the value
-    let st = Command::new(env!("CARGO_BIN_EXE_waves-fig3"))
-        .args(["--shard", "2/2", "--out"])
-        .arg(fresh("cli-bad"))
-        .output()
-        .unwrap();
-    assert!(!st.status.success());
-    assert!(String::from_utf8_lossy(&st.stderr).contains("2/2"));
+    let bad = fresh("cli-bad");
+    let args = [
+        OsStr::new("--shard"),
+        "2/2".as_ref(),
+        "--out".as_ref(),
+        bad.as_ref(),
+    ];
+    common::fails_with(env!("CARGO_BIN_EXE_waves-fig3"), args, "2/2");
 }
 
 #[test]

@@ -86,24 +86,18 @@ fn golden_fingerprint_of_a_small_seeded_run() {
     // draws or the generator changes these numbers (update them
     // deliberately). Each reading of "aligned" is named explicitly; the
     // default is pinned to be the along-bond one (EXPERIMENTS.md "The along-bond reading").
-    let mut literal = HopperParams::quick();
-    literal.energy.aligned = Aligned::AlongVelocity;
-    let f = fingerprint_of(literal, SEED);
-    assert_eq!(
-        f, GOLDEN_ALONG,
-        "along-velocity fingerprint changed: {f:#x}"
-    );
-    let mut same = HopperParams::quick();
-    same.energy.aligned = Aligned::SameOrientation;
-    let f = fingerprint_of(same, SEED);
-    assert_eq!(
-        f, GOLDEN_SAME,
-        "same-orientation fingerprint changed: {f:#x}"
-    );
+    for (aligned, golden) in [
+        (Aligned::AlongVelocity, GOLDEN_ALONG),
+        (Aligned::SameOrientation, GOLDEN_SAME),
+        (Aligned::AlongBond, GOLDEN_BOND),
+    ] {
+        let mut p = HopperParams::quick();
+        p.energy.aligned = aligned;
+        let f = fingerprint_of(p, SEED);
+        assert_eq!(f, golden, "{aligned:?} fingerprint changed: {f:#x}");
+    }
     let mut bond = HopperParams::quick();
     bond.energy.aligned = Aligned::AlongBond;
-    let f = fingerprint_of(bond, SEED);
-    assert_eq!(f, GOLDEN_BOND, "along-bond fingerprint changed: {f:#x}");
     assert_eq!(bond, HopperParams::quick(), "the default reading");
     assert_eq!(fingerprint(SEED), GOLDEN_BOND);
 }

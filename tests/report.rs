@@ -1,6 +1,8 @@
 //! Acceptance tests of the `report` binary (issue 17) on the two cheapest
 //! figures (the hopper's, a few seconds each at the quick tier on one thread).
 
+mod common;
+
 use granular_automata::report::without_timing;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -9,9 +11,7 @@ const EXE: &str = env!("CARGO_BIN_EXE_report");
 
 /// A fresh output folder of the test target directory.
 fn fresh(tag: &str) -> PathBuf {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("report-{tag}"));
-    let _ = std::fs::remove_dir_all(&out);
-    out
+    common::fresh_dir(&format!("report-{tag}"))
 }
 
 fn report(out: &Path, args: &[&str]) -> Output {

@@ -3,15 +3,15 @@
 //! key statistic from the summaries, resumes from them, and rejects bad
 //! input with a message naming the value and the allowed values.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const EXE: &str = env!("CARGO_BIN_EXE_speed-accuracy");
 
 fn fresh(tag: &str) -> PathBuf {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("speed-{tag}"));
-    let _ = std::fs::remove_dir_all(&out);
-    out
+    common::fresh_dir(&format!("speed-{tag}"))
 }
 
 fn speed(out: &Path, args: &[&str]) -> Output {

@@ -7,6 +7,8 @@
 //! The false-alarm rate and power are measured in EXPERIMENTS.md
 //! ("validate"), not here.
 
+mod common;
+
 use granular_automata::pipe::{Params, Rules};
 use granular_automata::validate::candidate::Builtin;
 use granular_automata::validate::conformance::{exact, probes};
@@ -16,9 +18,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 fn out(tag: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("validate-{tag}"));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+    common::fresh_dir(&format!("validate-{tag}"))
 }
 
 fn report(dir: &std::path::Path) -> serde_json::Value {
@@ -181,12 +181,8 @@ fn a_failing_candidate_exits_non_zero_and_says_why() {
     let md = std::fs::read_to_string(dir.join("validate/report.md")).unwrap();
     assert!(md.contains("FAIL") && md.contains("interior"), "{md}");
     // a wrong candidate name is a usage error naming the mutants
-    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(["--candidate", "mutant:nope"])
-        .output()
-        .unwrap();
-    assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("biased-stream"));
+    let args = ["--candidate", "mutant:nope"];
+    common::fails_with(env!("CARGO_BIN_EXE_validate"), args, "biased-stream");
 }
 
 #[test]
@@ -217,14 +213,19 @@ fn the_external_example_passes_through_the_contract() {
     let md = std::fs::read_to_string(dir.join("validate/report.md")).unwrap();
     assert!(md.contains("not provided by the candidate"), "{md}");
     // asking for the hopper alone of such a candidate is a usage error
-    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(["--candidate", &cmd, "--model", "hopper"])
-        .arg("--out")
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("provides no hopper engine"));
+    let args = [
+        "--candidate",
+        &cmd,
+        "--model",
+        "hopper",
+        "--out",
+        dir.to_str().unwrap(),
+    ];
+    common::fails_with(
+        env!("CARGO_BIN_EXE_validate"),
+        args,
+        "provides no hopper engine",
+    );
 }
 
 #[test]

@@ -276,28 +276,32 @@ pub fn grade(est: Estimate, claim: Claim) -> Verdict {
 mod tests {
     use super::*;
 
+    /// Assert the verdict of each (mean, SE, runs) under `claim`.
+    fn verdicts(claim: Claim, cases: &[(f64, f64, usize, Verdict)]) {
+        for &(m, se, n, want) in cases {
+            let got = grade(Estimate::new(m, se, n), claim);
+            assert_eq!(got, want, "{m} +- {se} over {n} runs under {claim:?}");
+        }
+    }
+
     #[test]
     fn fewer_than_three_runs_never_decide() {
+        use Verdict::*;
         let within = Claim::Within {
             target: 1.0,
             margin: 0.1,
         };
-        assert_eq!(
-            grade(Estimate::new(1.0, 0.0, 1), within),
-            Verdict::Undecided
+        verdicts(
+            within,
+            &[
+                (1.0, 0.0, 1, Undecided),
+                (1.0, 0.0, 2, Undecided),
+                (1.0, 0.0, 3, Reproduced),
+            ],
         );
-        assert_eq!(
-            grade(Estimate::new(1.0, 0.0, 2), within),
-            Verdict::Undecided
-        );
-        assert_eq!(
-            grade(Estimate::new(1.0, 0.0, 3), within),
-            Verdict::Reproduced
-        );
-        assert_eq!(grade(Estimate::of(&[1.0]), within), Verdict::Undecided);
-        assert_eq!(grade(Estimate::of(&[]), within), Verdict::Undecided);
-        let nan = Estimate::new(f64::NAN, 0.1, 10);
-        assert_eq!(grade(nan, within), Verdict::Undecided);
+        assert_eq!(grade(Estimate::of(&[1.0]), within), Undecided);
+        assert_eq!(grade(Estimate::of(&[]), within), Undecided);
+        verdicts(within, &[(f64::NAN, 0.1, 10, Undecided)]);
     }
 
     #[test]
@@ -310,47 +314,36 @@ mod tests {
 
     #[test]
     fn equivalence_and_thresholds_follow_the_rule() {
+        use Verdict::*;
         let c = Claim::Within {
             target: 1.33,
             margin: 0.1,
         };
-        // n = 100: k = 2
-        assert_eq!(
-            grade(Estimate::new(1.30, 0.02, 100), c),
-            Verdict::Reproduced
+        #[rustfmt::skip]
+        verdicts(c, &[
+            // n = 100: k = 2
+            (1.30, 0.02, 100, Reproduced), (1.10, 0.02, 100, NotReproduced), (1.10, 0.2, 100, Undecided),
+            // more noise never grades better
+            (1.25, 0.005, 100, Reproduced), (1.25, 0.04, 100, Undecided), (1.25, 0.08, 100, Undecided),
+            // small n widens the interval: 1.30 +- 0.02 at n = 3 (k = 4.3)
+            (1.30, 0.02, 3, Undecided),
+        ]);
+        // the same three cases, one side of the threshold each
+        let cases = |above: Verdict, below: Verdict| {
+            [
+                (10.0, 1.0, 50, above),
+                (1.0, 0.2, 50, below),
+                (3.0, 1.0, 50, Undecided),
+            ]
+        };
+        verdicts(
+            Claim::Above { threshold: 2.0 },
+            &cases(Reproduced, NotReproduced),
         );
-        assert_eq!(
-            grade(Estimate::new(1.10, 0.02, 100), c),
-            Verdict::NotReproduced
+        verdicts(
+            Claim::Below { threshold: 2.0 },
+            &cases(NotReproduced, Reproduced),
         );
-        assert_eq!(grade(Estimate::new(1.10, 0.2, 100), c), Verdict::Undecided);
-        // more noise never grades better
-        assert_eq!(
-            grade(Estimate::new(1.25, 0.005, 100), c),
-            Verdict::Reproduced
-        );
-        assert_eq!(grade(Estimate::new(1.25, 0.04, 100), c), Verdict::Undecided);
-        assert_eq!(grade(Estimate::new(1.25, 0.08, 100), c), Verdict::Undecided);
-        // small n widens the interval: 1.30 +- 0.02 at n = 3 (k = 4.3)
-        assert_eq!(grade(Estimate::new(1.30, 0.02, 3), c), Verdict::Undecided);
-
-        let up = Claim::Above { threshold: 2.0 };
-        assert_eq!(grade(Estimate::new(10.0, 1.0, 50), up), Verdict::Reproduced);
-        assert_eq!(
-            grade(Estimate::new(1.0, 0.2, 50), up),
-            Verdict::NotReproduced
-        );
-        assert_eq!(grade(Estimate::new(3.0, 1.0, 50), up), Verdict::Undecided);
-        let down = Claim::Below { threshold: 2.0 };
-        assert_eq!(
-            grade(Estimate::new(1.0, 0.2, 50), down),
-            Verdict::Reproduced
-        );
-        assert_eq!(
-            grade(Estimate::new(10.0, 1.0, 50), down),
-            Verdict::NotReproduced
-        );
-        assert_eq!(grade(Estimate::new(3.0, 1.0, 50), down), Verdict::Undecided);
     }
 
     #[test]

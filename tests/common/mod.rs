@@ -4,8 +4,32 @@
 
 pub mod models;
 
+use std::ffi::OsStr;
 use std::path::PathBuf;
 use std::process::Command;
+
+/// The folder `name` of the test target directory, emptied first.
+pub fn fresh_dir(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// Run `exe` with `args`; assert that it fails and that its standard error
+/// contains `needle` (a bad input names its value).
+pub fn fails_with<I, A>(exe: &str, args: I, needle: &str)
+where
+    I: IntoIterator<Item = A>,
+    A: AsRef<OsStr>,
+{
+    let o = Command::new(exe)
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{exe} succeeded");
+    assert!(err.contains(needle), "{exe}: {needle:?} not in {err}");
+}
 
 /// Run figure binary `exe` (named `bin`, its output folder) with `args` into a
 /// fresh folder of the test target directory tagged `tag` (removed first, so
@@ -35,16 +59,16 @@ pub fn run_figure(
     serde_json::from_str(&text).expect("summary.json parses")
 }
 
+/// Check `name` of a summary.
+pub fn check<'a>(s: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
+    let checks = s["checks"].as_array().expect("checks");
+    let found = checks.iter().find(|c| c["name"] == name);
+    found.unwrap_or_else(|| panic!("check {name} present"))
+}
+
 /// Whether check `name` of a summary passed.
 pub fn pass(s: &serde_json::Value, name: &str) -> bool {
-    s["checks"]
-        .as_array()
-        .expect("checks")
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap_or_else(|| panic!("check {name} present"))["pass"]
-        .as_bool()
-        .expect("pass is a bool")
+    check(s, name)["pass"].as_bool().expect("pass is a bool")
 }
 
 /// Metric `name` of a summary.
@@ -56,15 +80,8 @@ pub fn metric(s: &serde_json::Value, name: &str) -> f64 {
 
 /// The verdict (`reproduced`, `not-reproduced`, `undecided`) of check `name`.
 pub fn verdict(s: &serde_json::Value, name: &str) -> String {
-    s["checks"]
-        .as_array()
-        .expect("checks")
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap_or_else(|| panic!("check {name} present"))["verdict"]
-        .as_str()
-        .expect("verdict is a string")
-        .to_string()
+    let v = check(s, name)["verdict"].as_str();
+    v.expect("verdict is a string").to_string()
 }
 
 /// Whether the claim of check `name` is contradicted: verdict
