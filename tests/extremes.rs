@@ -392,9 +392,8 @@ mod spectra {
 }
 
 mod hopper {
-    use crate::common::models::reference_energy;
+    use crate::common::models::check_energies;
     use granular_automata::hopper::energy::state;
-    use granular_automata::hopper::model::is_grain;
     use granular_automata::hopper::{Aligned, EnergyParams, EnergyTable, Hopper, HopperParams};
 
     const SEED: u64 = 16_1990;
@@ -456,29 +455,8 @@ mod hopper {
                     assert!(w > 0.0 && (w - want).abs() <= 1e-12 * want, "{name}: {w}");
                 }
                 let mut h = Hopper::new(p, SEED).unwrap();
-                let mut checked = 0;
-                for it in 0..400 {
-                    if it == 250 {
-                        h.open();
-                    }
-                    h.step(it < 200);
-                    if it % 100 != 99 {
-                        continue;
-                    }
-                    for i in 0..h.sites().len() {
-                        if !is_grain(h.sites()[i]) {
-                            continue;
-                        }
-                        for (s, got) in h.debug_energies(i) {
-                            let r = reference_energy(&h, i, s);
-                            assert!(
-                                (got - r).abs() <= 1e-9 * r.abs().max(1.0),
-                                "{name}, {aligned:?}: site {i} state {s}: {got} vs {r}"
-                            );
-                            checked += 1;
-                        }
-                    }
-                }
+                let what = format!("{name}, {aligned:?}");
+                let checked = check_energies(&mut h, (400, 200, 250, 100), &what);
                 assert!(checked > 1000, "{name}: checked {checked}");
             }
         }

@@ -5,8 +5,7 @@
 
 mod common;
 
-use common::models::reference_energy;
-use granular_automata::hopper::model::is_grain;
+use common::models::check_energies;
 use granular_automata::hopper::{Aligned, Hopper, HopperParams};
 use granular_automata::run::{derive_seed, ensemble_with_threads};
 use granular_automata::ErrorKind;
@@ -121,29 +120,7 @@ fn tabulated_energy_equals_the_formula() {
         let mut p = HopperParams::quick();
         p.energy.aligned = aligned;
         let mut h = Hopper::new(p, derive_seed(SEED, 7)).unwrap();
-        let mut checked = 0;
-        for t in 0..700 {
-            if t == 450 {
-                h.open();
-            }
-            h.step(t < 400);
-            if t % 50 != 49 {
-                continue;
-            }
-            for i in 0..h.sites().len() {
-                if !is_grain(h.sites()[i]) {
-                    continue;
-                }
-                for (s, e) in h.debug_energies(i) {
-                    let r = reference_energy(&h, i, s);
-                    assert!(
-                        (e - r).abs() <= 1e-9 * r.abs().max(1.0),
-                        "site {i} state {s}: {e} vs {r}"
-                    );
-                    checked += 1;
-                }
-            }
-        }
+        let checked = check_energies(&mut h, (700, 400, 450, 50), &format!("{aligned:?}"));
         assert!(checked > 10_000, "checked {checked}");
     }
 }

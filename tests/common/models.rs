@@ -76,3 +76,38 @@ pub fn reference_energy(h: &Hopper, i: usize, s: usize) -> f64 {
     }
     e
 }
+
+/// Rain grains into `h` for the iterations before `rain_until`, open the
+/// plug at `open_at`, run `iterations` in all, and every `every` iterations
+/// assert that each grain's tabulated energies equal [`reference_energy`]
+/// (`what` names the case in a failure); the number of energies compared.
+pub fn check_energies(
+    h: &mut Hopper,
+    (iterations, rain_until, open_at, every): (u64, u64, u64, u64),
+    what: &str,
+) -> usize {
+    let mut checked = 0;
+    for it in 0..iterations {
+        if it == open_at {
+            h.open();
+        }
+        h.step(it < rain_until);
+        if it % every != every - 1 {
+            continue;
+        }
+        for i in 0..h.sites().len() {
+            if !is_grain(h.sites()[i]) {
+                continue;
+            }
+            for (s, got) in h.debug_energies(i) {
+                let r = reference_energy(h, i, s);
+                assert!(
+                    (got - r).abs() <= 1e-9 * r.abs().max(1.0),
+                    "{what}: site {i} state {s}: {got} vs {r}"
+                );
+                checked += 1;
+            }
+        }
+    }
+    checked
+}
