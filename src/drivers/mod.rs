@@ -9,6 +9,8 @@
 pub mod acceptance;
 pub mod acceptance_study;
 pub mod claims;
+/// The hopper figures of BB90 Figs. 2 and 3: metrics, checks and charts from their runs.
+pub mod hopper_figures;
 pub mod margins;
 pub mod open_pipe;
 pub mod relaxation;
