@@ -9,6 +9,8 @@
 pub mod acceptance;
 pub mod acceptance_study;
 pub mod claims;
+/// PH95 Fig. 11, the open pipe's correlation runs, panels and readings.
+pub mod fig11;
 /// The hopper figures of BB90 Figs. 2 and 3: metrics, checks and charts from their runs.
 pub mod hopper_figures;
 pub mod margins;
