@@ -15,6 +15,8 @@ pub mod fig11;
 pub mod hopper_figures;
 pub mod margins;
 pub mod open_pipe;
+/// PH95 Figs. 4 and 5: the wave profile and the wave speeds read over an ensemble.
+pub mod profiles;
 pub mod relaxation;
 pub mod spectra;
 pub mod sweep;
