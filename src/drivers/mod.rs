@@ -8,6 +8,8 @@
 
 pub mod acceptance;
 pub mod acceptance_study;
+/// PH94 Fig. 1: the density bands of its four panels over an ensemble, their checks and plots.
+pub mod bands;
 pub mod claims;
 /// PH95 Fig. 11, the open pipe's correlation runs, panels and readings.
 pub mod fig11;
