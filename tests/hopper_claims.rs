@@ -51,8 +51,8 @@ const RUNS: usize = 3;
 /// EXPERIMENTS.md "The hopper's default reading switches to same-orientation").
 const CHOSEN: Case = Case::BETA1_BOND;
 
-/// Thresholds and margins of `reproduce/hopper_fig2.rs` and
-/// `reproduce/hopper_fig3.rs` (fixed before measuring).
+/// Thresholds and margins of `hopper-fig2` and `hopper-fig3`
+/// (`src/drivers/hopper_figures.rs`; fixed before measuring).
 const CORE_RATIO: f64 = 4.0;
 const CORE_WIDTH: Claim = Claim::Within {
     target: 0.0,
