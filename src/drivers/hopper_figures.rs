@@ -241,86 +241,55 @@ impl Fig2Runs {
             "BB90 Fig. 2a, Fig. 1 feature (3) (flow in a central region, stagnant sides)",
             ratio, n, ratio >= CORE_RATIO,
             &format!("{cap}: (activity at centre + 1e-3)/(activity next to the walls + 1e-3) >= {CORE_RATIO} at the lower core row, of the means over runs")));
-        checks.push(Check::published(&format!("{k}_core_constant_width"),
-            "BB90 Fig. 2a (a core that approaches a constant width)", e("core_width_change"),
-            Claim::Within { target: 0.0, margin: CORE_WIDTH_MARGIN },
-            &format!("{cap}: core FWHM at 40% minus at 20% of the wedge height, within {CORE_WIDTH_MARGIN} lattice spacings of 0")));
-        checks.push(Check::published(
-            &format!("{k}_core_lowered_density"),
-            "BB90 Fig. 2a (density uniformly lowered inside the core)",
-            e("occupancy_core").minus(e("occupancy_sides")),
-            Claim::Below { threshold: 0.0 },
-            &format!("{cap}: occupancy core - sides < 0"),
-        ));
-        checks.push(Check::published(
-            &format!("{k}_surface_v_shape"),
-            "BB90 Fig. 2a and abstract (the upper surface takes the shape of physical flows)",
-            e("surface_slope_half_empty"),
-            Claim::Above {
-                threshold: SURFACE_SLOPE,
-            },
-            &format!(
-                "{cap}: surface slope about the outlet column, half emptied, > {SURFACE_SLOPE}"
-            ),
-        ));
+        // the published claims: (name, source, statistic, claim, what is measured)
+        let above = |threshold| Claim::Above { threshold };
+        let published = |rows: Vec<(&'static str, &'static str, Estimate, Claim, String)>| {
+            rows.into_iter()
+                .map(|(name, source, stat, claim, what)| {
+                    let (name, what) = (format!("{k}_{name}"), format!("{cap}: {what}"));
+                    Check::published(&name, source, stat, claim, &what)
+                })
+                .collect::<Vec<_>>()
+        };
+        #[rustfmt::skip]
+        checks.extend(published(vec![
+            ("core_constant_width", "BB90 Fig. 2a (a core that approaches a constant width)",
+                e("core_width_change"), Claim::Within { target: 0.0, margin: CORE_WIDTH_MARGIN },
+                format!("core FWHM at 40% minus at 20% of the wedge height, within {CORE_WIDTH_MARGIN} lattice spacings of 0")),
+            ("core_lowered_density", "BB90 Fig. 2a (density uniformly lowered inside the core)",
+                e("occupancy_core").minus(e("occupancy_sides")), Claim::Below { threshold: 0.0 },
+                "occupancy core - sides < 0".into()),
+            ("surface_v_shape", "BB90 Fig. 2a and abstract (the upper surface takes the shape of physical flows)",
+                e("surface_slope_half_empty"), above(SURFACE_SLOPE),
+                format!("surface slope about the outlet column, half emptied, > {SURFACE_SLOPE}")),
+        ]));
         if case.beta == 0.0 {
-            checks.push(Check::published(
-                &format!("{k}_structureless"),
-                "BB90 Fig. 2a (structureless flow)",
-                e("order_half_empty"),
-                Claim::Within {
-                    target: 1.0 / 3.0,
-                    margin: STRUCTURELESS_MARGIN,
-                },
-                &format!("{cap}: order parameter within {STRUCTURELESS_MARGIN} of 1/3 (random)"),
-            ));
+            #[rustfmt::skip]
+            checks.extend(published(vec![
+                ("structureless", "BB90 Fig. 2a (structureless flow)",
+                    e("order_half_empty"), Claim::Within { target: 1.0 / 3.0, margin: STRUCTURELESS_MARGIN },
+                    format!("order parameter within {STRUCTURELESS_MARGIN} of 1/3 (random)")),
+            ]));
             return checks;
         }
-        checks.push(Check::published(
-            &format!("{k}_order_forms_while_filling"),
-            "BB90 Fig. 2b (the fill has orientational order)",
-            e("order_filled"),
-            Claim::Above { threshold: ORDER },
-            &format!("{cap}: order parameter after filling > {ORDER} (1/3 random)"),
-        ));
-        checks.push(Check::published(
-            &format!("{k}_order"),
-            "BB90 abstract, Figs. 2c-f (alignment of the particles)",
-            e("order_half_empty"),
-            Claim::Above { threshold: ORDER },
-            &format!("{cap}: order parameter half emptied > {ORDER} (1/3 random)"),
-        ));
-        checks.push(Check::published(
-            &format!("{k}_container_scale_order"),
-            "BB90 Figs. 2c-f (orientations correlated over the container's dimensions)",
-            e("corr_length_half_empty"),
-            Claim::Above {
-                threshold: CONTAINER_SCALE,
-            },
-            &format!(
-                "{cap}: correlation length half emptied > {CONTAINER_SCALE} steps (capped at 16)"
-            ),
-        ));
-        checks.push(Check::published(&format!("{k}_vertical_core"),
-            "BB90 Figs. 2c-f with Fig. 1 feature (3) (grains in the flowing region orient vertically)",
-            e("vertical_fraction_moving"), Claim::Above { threshold: VERTICAL },
-            &format!("{cap}: fraction of moving grains with vertical orientation > {VERTICAL} (1/3 random)")));
-        checks.push(Check::published(
-            &format!("{k}_dense_sides"),
-            "BB90 Fig. 2c (the shaded region has 0% holes)",
-            e("occupancy_sides"),
-            Claim::Above {
-                threshold: DENSE_SIDES,
-            },
-            &format!("{cap}: occupancy outside the core > {DENSE_SIDES}"),
-        ));
-        checks.push(Check::published(
-            &format!("{k}_defects"),
-            "BB90 abstract (defects form in the body of the material)",
-            e("vacancies_per_1000_half_empty"),
-            Claim::Above { threshold: DEFECTS },
-            &format!("{cap}: enclosed vacancies per 1000 grains half emptied > {DEFECTS}"),
-        ));
+        #[rustfmt::skip]
+        checks.extend(published(vec![
+            ("order_forms_while_filling", "BB90 Fig. 2b (the fill has orientational order)",
+                e("order_filled"), above(ORDER), format!("order parameter after filling > {ORDER} (1/3 random)")),
+            ("order", "BB90 abstract, Figs. 2c-f (alignment of the particles)",
+                e("order_half_empty"), above(ORDER), format!("order parameter half emptied > {ORDER} (1/3 random)")),
+            ("container_scale_order", "BB90 Figs. 2c-f (orientations correlated over the container's dimensions)",
+                e("corr_length_half_empty"), above(CONTAINER_SCALE),
+                format!("correlation length half emptied > {CONTAINER_SCALE} steps (capped at 16)")),
+            ("vertical_core", "BB90 Figs. 2c-f with Fig. 1 feature (3) (grains in the flowing region orient vertically)",
+                e("vertical_fraction_moving"), above(VERTICAL),
+                format!("fraction of moving grains with vertical orientation > {VERTICAL} (1/3 random)")),
+            ("dense_sides", "BB90 Fig. 2c (the shaded region has 0% holes)",
+                e("occupancy_sides"), above(DENSE_SIDES), format!("occupancy outside the core > {DENSE_SIDES}")),
+            ("defects", "BB90 abstract (defects form in the body of the material)",
+                e("vacancies_per_1000_half_empty"), above(DEFECTS),
+                format!("enclosed vacancies per 1000 grains half emptied > {DEFECTS}")),
+        ]));
         checks
     }
 }
