@@ -13,7 +13,7 @@
 
 mod common;
 
-use common::{run_figure, verdict};
+use common::verdict;
 
 /// A recorded value: `measured` of check `name` equals `value` to 1e-9
 /// (runs are pure functions of seed, rules and engine: the same bytes).
@@ -36,9 +36,8 @@ fn assert_value(s: &serde_json::Value, name: &str, value: f64, error: f64) {
 
 #[test]
 fn ph94_fig2_at_the_published_set_up_alpha_undecided_v_reproduced() {
-    let s = run_figure(
+    let s = run_figure!(
         "fig2",
-        env!("CARGO_BIN_EXE_fig2"),
         &["--tier", "acceptance"],
         "acceptance",
         &["fig2.png", "spectrum.csv", "runs.csv"],
@@ -58,9 +57,8 @@ fn ph94_fig2_at_the_published_set_up_alpha_undecided_v_reproduced() {
 
 #[test]
 fn ph95_fig6_at_the_published_set_up_alpha_undecided() {
-    let s = run_figure(
+    let s = run_figure!(
         "waves-fig6",
-        env!("CARGO_BIN_EXE_waves-fig6"),
         &["--tier", "acceptance"],
         "acceptance",
         &["waves-fig6.png", "spectrum.csv", "runs.csv"],
@@ -87,9 +85,8 @@ const V_SEED1: (f64, f64) = (0.39544677734375, 0.0006265051476578973);
 
 #[test]
 fn ph95_fig7_at_the_published_set_up_not_white_with_the_line_at_one_half() {
-    let s = run_figure(
+    let s = run_figure!(
         "waves-fig7",
-        env!("CARGO_BIN_EXE_waves-fig7"),
         &["--tier", "acceptance"],
         "acceptance",
         &["waves-fig7.png"],

@@ -12,7 +12,7 @@
 //! the gas collapses into free fall and forms no bands (MODEL.md A11).
 
 mod common;
-use common::{pass as check, run_figure};
+use common::pass as check;
 
 fn run_fig1(rules: &str, tag: &str) -> serde_json::Value {
     let files = [
@@ -24,7 +24,7 @@ fn run_fig1(rules: &str, tag: &str) -> serde_json::Value {
         "bins_a.csv",
     ];
     let args = ["--tier", "quick", "--seed", "1", "--rules", rules];
-    run_figure("fig1", env!("CARGO_BIN_EXE_fig1"), &args, tag, &files)
+    run_figure!("fig1", &args, tag, &files)
 }
 
 #[test]

@@ -20,13 +20,7 @@ fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
         "fig2b_spacetime_run0.csv",
         "fig2a_snapshots_run0.csv",
     ];
-    common::run_figure(
-        "waves-fig2",
-        env!("CARGO_BIN_EXE_waves-fig2"),
-        &args,
-        tag,
-        &files,
-    )
+    run_figure!("waves-fig2", &args, tag, &files,)
 }
 
 #[test]

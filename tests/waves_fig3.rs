@@ -14,13 +14,7 @@ fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
     ];
     args.extend_from_slice(extra);
     let files = ["fig3a.png", "fig3b.png", "fig3.csv"];
-    common::run_figure(
-        "waves-fig3",
-        env!("CARGO_BIN_EXE_waves-fig3"),
-        &args,
-        tag,
-        &files,
-    )
+    run_figure!("waves-fig3", &args, tag, &files,)
 }
 
 /// Base seed of every run in this file.

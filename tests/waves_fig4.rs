@@ -37,13 +37,7 @@ fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
         "fig4_profiles.csv",
         "runs.csv",
     ];
-    common::run_figure(
-        "waves-fig4",
-        env!("CARGO_BIN_EXE_waves-fig4"),
-        &args,
-        tag,
-        &files,
-    )
+    run_figure!("waves-fig4", &args, tag, &files,)
 }
 
 #[test]

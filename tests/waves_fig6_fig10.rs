@@ -39,13 +39,7 @@ fn check<'a>(s: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
 
 #[test]
 fn fig6_quick_reports_alpha_and_its_check() {
-    let s = common::run_figure(
-        "waves-fig6",
-        env!("CARGO_BIN_EXE_waves-fig6"),
-        &QUICK,
-        "quick",
-        &["waves-fig6.png"],
-    );
+    let s = run_figure!("waves-fig6", &QUICK, "quick", &["waves-fig6.png"],);
     assert_eq!(s["figure"], "waves-fig6");
     assert_eq!(s["paper"], "PH95 Fig. 6");
     assert_eq!(s["tier"], "quick");
@@ -62,9 +56,8 @@ fn fig6_quick_reports_alpha_and_its_check() {
 
 #[test]
 fn fig10_quick_reports_every_point_and_rough_walls_slow_the_waves() {
-    let s = common::run_figure(
+    let s = run_figure!(
         "waves-fig10",
-        env!("CARGO_BIN_EXE_waves-fig10"),
         &QUICK,
         "quick",
         &[

@@ -69,9 +69,8 @@ fn fig9_counts_invalid_runs_and_reports_the_validity_limit() {
     // fills with rest particles) or a low-density run stops. Every named
     // reading reaches the limit at rho = 3 (EXPERIMENTS.md), so the reading
     // is tested by the wave speed at rho = 1.4 ([`v_rho14_within_pinned`]).
-    let s = common::run_figure(
+    let s = run_figure!(
         "waves-fig9",
-        env!("CARGO_BIN_EXE_waves-fig9"),
         &args(&["--runs", "1"]),
         "default",
         &FIG9_FILES,
@@ -111,9 +110,8 @@ fn v_rho14_within_pinned(s: &serde_json::Value) -> bool {
 /// own ensemble, so these are the same runs as in the full sweep.
 #[test]
 fn fig9_a_wrong_reading_fails_the_pinned_wave_speed() {
-    let w = common::run_figure(
+    let w = run_figure!(
         "waves-fig9",
-        env!("CARGO_BIN_EXE_waves-fig9"),
         &args(&["--runs", "1", "--rho", "1.4,3", "--rules", "any-mover"]),
         "any-mover",
         &FIG9_FILES,
@@ -127,9 +125,8 @@ fn fig9_a_wrong_reading_fails_the_pinned_wave_speed() {
 
 #[test]
 fn fig11_bookkeeping_and_correlation_speed() {
-    let s = common::run_figure(
+    let s = run_figure!(
         "waves-fig11",
-        env!("CARGO_BIN_EXE_waves-fig11"),
         &args(&["--runs", "2"]),
         "default",
         &FIG11_FILES,
@@ -167,9 +164,8 @@ fn within_pinned(s: &serde_json::Value) -> bool {
 /// the same as in the full figure), a few seconds.
 #[test]
 fn fig11_a_wrong_reading_fails_the_pinned_speed() {
-    let w = common::run_figure(
+    let w = run_figure!(
         "waves-fig11",
-        env!("CARGO_BIN_EXE_waves-fig11"),
         &args(&["--runs", "2", "--correlation-only", "--rules", "ph94"]),
         "ph94",
         &FIG11_FILES[..3],
@@ -188,9 +184,8 @@ fn fig11_a_wrong_reading_fails_the_pinned_speed() {
 fn fig12(tag: &str, extra: &[&str]) -> serde_json::Value {
     let mut a = args(&["--sizes", "220x11", "--no-spectra", "--bisections", "6"]);
     a.extend(extra);
-    common::run_figure(
+    run_figure!(
         "waves-fig12",
-        env!("CARGO_BIN_EXE_waves-fig12"),
         &a,
         tag,
         &[
@@ -263,9 +258,8 @@ fn fig12_a_wrong_reading_fails_the_pinned_critical_rate() {
 #[test]
 fn fig12_a_censored_critical_rate_decides_nothing_it_cannot() {
     let rules = "default+inject-down";
-    let s = common::run_figure(
+    let s = run_figure!(
         "waves-fig12",
-        env!("CARGO_BIN_EXE_waves-fig12"),
         &args(&[
             "--sizes",
             "220x11",

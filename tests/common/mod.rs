@@ -59,6 +59,15 @@ pub fn run_figure(
     serde_json::from_str(&text).expect("summary.json parses")
 }
 
+/// [`run_figure`] of the figure binary named `$bin` (its executable found
+/// by that name): `run_figure!("fig2", &args, tag, &files)`.
+#[macro_export]
+macro_rules! run_figure {
+    ($bin:literal, $($rest:expr),+ $(,)?) => {
+        $crate::common::run_figure($bin, env!(concat!("CARGO_BIN_EXE_", $bin)), $($rest),+)
+    };
+}
+
 /// Check `name` of a summary.
 pub fn check<'a>(s: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
     let checks = s["checks"].as_array().expect("checks");
