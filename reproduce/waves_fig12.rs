@@ -22,7 +22,7 @@ use granular_automata::drivers::critical::{
 };
 use granular_automata::drivers::open_pipe::{fig12_pipe, CLOG_INJECT};
 use granular_automata::drivers::spectra::tier_setup;
-use granular_automata::drivers::sweep::{point_metrics, run_sweep, site_updates};
+use granular_automata::drivers::sweep::{run_sweep, site_updates};
 use granular_automata::pipe::open::{trend_threshold, PipeSize, TREND_FALSE_ALARM};
 use granular_automata::pipe::Params;
 use granular_automata::run::{derive_seed, Output, Summary};
@@ -109,27 +109,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         plot_spectra(&out, &res, &main_pipe, sruns, i_c, rules)?;
     }
     plot_nt(&out, &nt, &main_pipe, runs)?;
-    let mut metrics = bisections.metrics();
-    for r in &res {
-        point_metrics(r, &mut metrics);
-    }
-    let with_spectra = !args.no_spectra;
+    let (with_spectra, nt, clog) = (!args.no_spectra, &nt, &clog);
     let (bisections, spectra) = (&bisections, &res);
     let measured = Measured {
         bisections,
-        nt: &nt,
-        clog: &clog,
+        nt,
+        clog,
         spectra,
         with_spectra,
         runs,
     };
-    let checks = critical::checks(&measured);
-    if let Some(c) = checks
-        .iter()
-        .find(|c| c.name == "i_c_independent_of_w_and_l")
-    {
-        metrics.insert("i_c_geometry_spread".into(), c.measured.abs());
-    }
+    let (checks, metrics) = (critical::checks(&measured), measured.metrics());
     let thr = trend_threshold(runs);
     let base = Params {
         p: 0.5,

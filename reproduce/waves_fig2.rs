@@ -14,10 +14,11 @@
 use clap::Parser;
 use granular_automata::analysis::grading::{Claim, Estimate};
 use granular_automata::cli::WaveOptions;
+use granular_automata::drivers::bands::draw_snapshots;
 use granular_automata::drivers::claims::WAVE_THRESHOLD;
 use granular_automata::pipe::overlap::real_space_speed;
 use granular_automata::pipe::record::{bands, record, Record};
-use granular_automata::plot::{space_time_upward, stacked_profiles, value_range};
+use granular_automata::plot::{space_time_upward, value_range};
 use granular_automata::run::{mean_sem_by, stat_metrics, Check};
 use serde::{Deserialize, Serialize};
 use serde_json::json;
@@ -98,34 +99,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         vec![r.s_low, r.contrast, r.speed]
     })?;
 
-    // (a) snapshots: x = distance from the top of the pipe (gravity left to
-    // right), one line per snapshot offset by its index (time upward)
-    let (l, bin) = (params.length as f64, params.bin as f64);
-    let k = params.bins();
-    let x: Vec<f64> = (0..k).map(|i| l - (i as f64 + 0.5) * bin).collect();
-    let mean = rec.n[0].iter().sum::<f64>() / k as f64;
-    let amp = snap_idx
-        .iter()
-        .flat_map(|&t| rec.n[t].iter().map(move |v| (v - mean).abs()))
-        .fold(0.0f64, f64::max)
-        .max(1.0);
-    let snaps: Vec<(String, &[f64])> = snap_idx
-        .iter()
-        .map(|&t| (format!("t = {}", rec.time(t)), &rec.n[t][..]))
-        .collect();
+    // (a) snapshots: n_i every 2000 steps, time upward
     let p = params.p;
-    stacked_profiles(
-        &out.path("fig2a.png"),
-        &format!(
-            "PH95 Fig. 2a: n_i every 2000 steps, L = 2200, p = {p}, {rules}, seed {}",
-            seeds[0]
-        ),
-        "n_i - mean, offset by 2000 steps per line (time upward)",
-        l,
-        &x,
-        &snaps,
-        (mean, 1.2 * amp),
-    )?;
+    let title = format!(
+        "PH95 Fig. 2a: n_i every 2000 steps, L = 2200, p = {p}, {rules}, seed {}",
+        seeds[0]
+    );
+    draw_snapshots(&out.path("fig2a.png"), &title, rec, &snap_idx, &params)?;
     // (b) space-time: x as in (a), time upward, darker = denser
     let (lo, hi) = value_range(&rec.n);
     space_time_upward(

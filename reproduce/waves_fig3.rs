@@ -16,12 +16,11 @@ use clap::Parser;
 use granular_automata::analysis::grading::{Claim, Estimate, Kind};
 use granular_automata::analysis::relaxation::Saturation;
 use granular_automata::cli::{check_steps, WaveOptions};
-use granular_automata::drivers::relaxation::fig3_checks;
+use granular_automata::drivers::relaxation::{draw_fig3, fig3_checks};
 use granular_automata::pipe::observables::random_start_contrast;
 use granular_automata::pipe::record::{
     relaxation, relaxation_schedule, sample_times, RELAXATION_EARLY,
 };
-use granular_automata::plot::{line_chart, mean_se_lines, Line, PALETTE};
 use granular_automata::run::{mean_sem_at, metrics_of, stat_metrics, Check};
 use serde_json::json;
 
@@ -89,37 +88,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ),
     ]));
 
-    let header = [
-        "t",
-        "contrast_mean",
-        "contrast_sem",
-        "energy_loss_mean",
-        "energy_loss_sem",
-    ];
-    out.write_columns("fig3.csv", &header, &[&tf, &cm, &ce, &em, &ee])?;
     let title_tail = format!("L = 256, p = {}, bin 8, {runs} runs, {rules}", params.p);
-    let mut a = mean_se_lines("mean over runs", &tf, &cm, &ce, PALETTE[0]);
-    a.push(Line::new(
-        "random-start value",
-        vec![(0.0, c0_theory), (*tf.last().expect("samples"), c0_theory)],
-        PALETTE[5],
-    ));
-    line_chart(
-        &out.path("fig3a.png"),
-        &format!("PH95 Fig. 3a: contrast C(t), {title_tail}"),
-        "time t (steps)",
-        "density contrast C (PH95 eq. 1)",
-        &a,
-        false,
-    )?;
-    line_chart(
-        &out.path("fig3b.png"),
-        &format!("PH95 Fig. 3b: energy loss E(0)-E(t), {title_tail}"),
-        "time t (steps)",
-        "E(0) - E(t) (moving particles lost)",
-        &mean_se_lines("mean over runs", &tf, &em, &ee, PALETTE[1]),
-        false,
-    )?;
+    let (contrast, energy_loss) = ((&cm[..], &ce[..]), (&em[..], &ee[..]));
+    draw_fig3(&out, &tf, contrast, energy_loss, c0_theory, &title_tail)?;
 
     let (c0, c0_err) = c.start;
     let est = |m: f64, e: f64| Estimate::new(m, e, runs);

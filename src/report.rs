@@ -1071,7 +1071,8 @@ pub fn markdown(r: &Report) -> String {
         r.stamp.version, r.tier
     );
     let _ = writeln!(m, "{}\n", headline(r));
-    let _ = writeln!(m, "{}\n", top_stamp(r).replace('`', "'"));
+    // the stamp carries this invocation's CPU time: a timing line
+    let _ = writeln!(m, "{} {TIMING_MARK}\n", top_stamp(r).replace('`', "'"));
     let _ = writeln!(m, "Regenerate: `{}`\n", r.stamp.regenerate);
     for p in &r.preface {
         let _ = writeln!(m, "{p}\n");
@@ -1247,7 +1248,9 @@ pub fn markdown(r: &Report) -> String {
     }
     let _ = writeln!(m, "## Reproducibility stamp\n");
     for (k, v) in stamp_lines(r) {
-        let _ = writeln!(m, "- {k}: {}", v.replace('`', "'"));
+        let mark = if k == CPU_LINE { TIMING_MARK } else { "" };
+        let line = format!("- {k}: {} {mark}", v.replace('`', "'"));
+        let _ = writeln!(m, "{}", line.trim_end());
     }
     let _ = writeln!(
         m,
@@ -1300,6 +1303,9 @@ pub fn regenerate(command_line: &str) -> String {
     .to_string()
 }
 
+/// The stamp's line of this invocation's CPU time (a timing line).
+const CPU_LINE: &str = "CPU of the figures in this invocation";
+
 fn stamp_lines(r: &Report) -> Vec<(&'static str, String)> {
     let s = &r.stamp;
     let mut v = vec![
@@ -1307,7 +1313,7 @@ fn stamp_lines(r: &Report) -> Vec<(&'static str, String)> {
         ("git commit", s.commit.clone()),
         ("command", s.command_line.clone()),
         ("regenerate", s.regenerate.clone()),
-        ("CPU of the figures in this invocation", cpu(total_cpu(r))),
+        (CPU_LINE, cpu(total_cpu(r))),
         ("tier", r.tier.clone()),
         ("--seed", s.seed.clone()),
         ("--threads", s.threads.clone()),
@@ -1364,7 +1370,11 @@ pub fn html(r: &Report) -> String {
     let _ = writeln!(h, "<h1>{}</h1>", esc(&title));
     let head = esc(&headline(r));
     let _ = writeln!(h, "<p class=\"headline\">{}</p>", code_spans(&head));
-    let _ = writeln!(h, "<p class=\"small\">{}</p>", esc(&top_stamp(r)));
+    let _ = writeln!(
+        h,
+        "<p class=\"small\" {HTML_TIMING_MARK}>{}</p>",
+        esc(&top_stamp(r))
+    );
     let _ = writeln!(
         h,
         "<p class=\"small\">Regenerate: <code>{}</code></p>",
@@ -1557,7 +1567,12 @@ pub fn html(r: &Report) -> String {
         "</div>\n<h2>Reproducibility stamp</h2>\n<ul class=\"small\">"
     );
     for (k, v) in stamp_lines(r) {
-        let _ = writeln!(h, "<li>{k}: <code>{}</code></li>", esc(&v));
+        let li = if k == CPU_LINE {
+            "<li data-timing>"
+        } else {
+            "<li>"
+        };
+        let _ = writeln!(h, "{li}{k}: <code>{}</code></li>", esc(&v));
     }
     let _ = writeln!(
         h,

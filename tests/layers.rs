@@ -1,6 +1,7 @@
 //! The imports of the library point one way (issue 32): no module imports
 //! a module that imports it back, directly or around a circle, and every
-//! top-level module imports only the layers below it (README "Layout").
+//! top-level module imports only the layers below it (docs/library.md
+//! "Layers"); and every figure binary stays a short script.
 //!
 //! The test reads `src/` as text: the `use crate::…`, `use super::…` and
 //! `use self::…` trees and the `crate::…` and `super::…` paths written
@@ -315,4 +316,20 @@ fn the_parser_sees_a_circle_and_an_upward_import() {
         &code("// use crate::z;\n#[cfg(test)]\nuse crate::y;")
     )
     .is_empty());
+}
+
+#[test]
+fn every_figure_binary_is_a_short_script() {
+    // issue 32: a binary holds its options, set-up, calls, checks and
+    // summary; procedures live in src/ (docs/library.md "Layers")
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("reproduce");
+    let mut long = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let lines = std::fs::read_to_string(&path).unwrap().lines().count();
+        if lines > 150 {
+            long.push(format!("{}: {lines} lines", path.display()));
+        }
+    }
+    assert!(long.is_empty(), "binaries over 150 lines: {long:?}");
 }

@@ -3,14 +3,15 @@
 //! continued with p = 0.1; (d) b = 0; [`fig1_panels`]) for one seed, with
 //! the band statistics of MODEL.md A11 over their late halves; the metrics
 //! and the checks of the published (qualitative) claims from them, and the
-//! space-time plots of run 0.
+//! space-time plots of run 0. Also the snapshots of PH95 Fig. 2a
+//! ([`draw_snapshots`]).
 
 use super::claims::WAVE_THRESHOLD;
 use crate::analysis::grading::{Claim, Estimate};
 use crate::error::{Error, ErrorKind, Result};
 use crate::pipe::record::{fig1_panels, Bands, Record};
 use crate::pipe::{Engine, Params, Rules};
-use crate::plot::{plot_err, png, value_range, SpaceTime};
+use crate::plot::{plot_err, png, stacked_profiles, value_range, SpaceTime};
 use crate::run::{mean_sem_by, stat_metrics, Check, Output};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -207,4 +208,38 @@ pub fn draw_fig1(out: &Output, setup: &Fig1Setup, run0: &Fig1Run, seed: u64) -> 
         }
         Ok(())
     })
+}
+
+/// PH95 Fig. 2a at `path`: the bin densities n_i of `rec` at the samples
+/// `snap_idx`, one line per snapshot offset by its index (time upward), x
+/// the distance from the top of the pipe (gravity from left to right).
+pub fn draw_snapshots(
+    path: &std::path::Path,
+    title: &str,
+    rec: &Record,
+    snap_idx: &[usize],
+    params: &Params,
+) -> Result<()> {
+    let (l, bin) = (params.length as f64, params.bin as f64);
+    let k = params.bins();
+    let x: Vec<f64> = (0..k).map(|i| l - (i as f64 + 0.5) * bin).collect();
+    let mean = rec.n[0].iter().sum::<f64>() / k as f64;
+    let amp = snap_idx
+        .iter()
+        .flat_map(|&t| rec.n[t].iter().map(move |v| (v - mean).abs()))
+        .fold(0.0f64, f64::max)
+        .max(1.0);
+    let snaps: Vec<(String, &[f64])> = snap_idx
+        .iter()
+        .map(|&t| (format!("t = {}", rec.time(t)), &rec.n[t][..]))
+        .collect();
+    stacked_profiles(
+        path,
+        title,
+        "n_i - mean, offset by 2000 steps per line (time upward)",
+        l,
+        &x,
+        &snaps,
+        (mean, 1.2 * amp),
+    )
 }

@@ -10,7 +10,7 @@ use super::open_pipe::{
     clogs_check, fig12_pipe, ic_check, ic_independence_check, CLOG_INJECT, TREND_EVERY,
 };
 use super::spectra::{spectra_chart, spectrum_lines};
-use super::sweep::{alpha_check, header, PointResult, SweepPoint};
+use super::sweep::{alpha_check, header, point_metrics, PointResult, SweepPoint};
 use crate::analysis::grading::{Kind, Verdict};
 use crate::cli::Common;
 use crate::ensemble::Outcome;
@@ -320,6 +320,31 @@ pub struct Measured<'a> {
     pub with_spectra: bool,
     /// Runs per tested rate.
     pub runs: usize,
+}
+
+impl Measured<'_> {
+    /// The summary's metrics: I_c of every size, every spectrum point's
+    /// alpha and v, and the spread of I_c over the sizes (when there are
+    /// several).
+    pub fn metrics(&self) -> BTreeMap<String, f64> {
+        let mut metrics = self.bisections.metrics();
+        for r in self.spectra {
+            point_metrics(r, &mut metrics);
+        }
+        let ic = &self.bisections.ic;
+        if ic.len() > 1 {
+            let (_, _, i_c, i_c_err) = ic[0];
+            let others: Vec<(String, f64, f64)> = ic[1..]
+                .iter()
+                .map(|&(l, w, i, e)| (format!("{l}x{w}"), i, e))
+                .collect();
+            let name = "i_c_independent_of_w_and_l";
+            let c =
+                ic_independence_check(name, "the pipe size", (i_c, i_c_err), &others, self.runs);
+            metrics.insert("i_c_geometry_spread".into(), c.measured.abs());
+        }
+        metrics
+    }
 }
 
 /// The checks of PH95 Fig. 12 and III I: bookkeeping, N(t) stationary

@@ -1,10 +1,12 @@
 //! The published claims of PH95 Fig. 3 as checks: the driver above
 //! `analysis::relaxation` (which measures the approach to saturation) that
-//! `waves-fig3` and the reproduction matrix share.
+//! `waves-fig3` and the reproduction matrix share; and the figure's panels.
 
 use crate::analysis::grading::{Claim, Estimate};
 use crate::analysis::relaxation::{Saturation, SATURATION_MARGIN};
-use crate::run::Check;
+use crate::error::Result;
+use crate::plot::{line_chart, mean_se_lines, Line, PALETTE};
+use crate::run::{Check, Output};
 
 /// The published claims of PH95 Fig. 3, graded by the one rule from the
 /// contrast `c` and the energy loss `e` of `runs` runs (used by
@@ -41,4 +43,45 @@ pub fn fig3_checks(c: &Saturation, e: &Saturation, runs: usize) -> Vec<Check> {
     rows.into_iter()
         .map(|(name, source, stat, claim, how)| Check::published(name, source, stat, claim, how))
         .collect()
+}
+
+/// `fig3.csv` and the panels of PH95 Fig. 3 at the sample times `t`: (a) the
+/// contrast's mean and standard error over runs with its random-start value
+/// `c0_theory`, (b) the energy loss's; `title_tail` ends both titles.
+pub fn draw_fig3(
+    out: &Output,
+    t: &[f64],
+    (cm, ce): (&[f64], &[f64]),
+    (em, ee): (&[f64], &[f64]),
+    c0_theory: f64,
+    title_tail: &str,
+) -> Result<()> {
+    let header = [
+        "t",
+        "contrast_mean",
+        "contrast_sem",
+        "energy_loss_mean",
+        "energy_loss_sem",
+    ];
+    out.write_columns("fig3.csv", &header, &[t, cm, ce, em, ee])?;
+    let mut a = mean_se_lines("mean over runs", t, cm, ce, PALETTE[0]);
+    let last = *t.last().expect("samples");
+    let flat = vec![(0.0, c0_theory), (last, c0_theory)];
+    a.push(Line::new("random-start value", flat, PALETTE[5]));
+    line_chart(
+        &out.path("fig3a.png"),
+        &format!("PH95 Fig. 3a: contrast C(t), {title_tail}"),
+        "time t (steps)",
+        "density contrast C (PH95 eq. 1)",
+        &a,
+        false,
+    )?;
+    line_chart(
+        &out.path("fig3b.png"),
+        &format!("PH95 Fig. 3b: energy loss E(0)-E(t), {title_tail}"),
+        "time t (steps)",
+        "E(0) - E(t) (moving particles lost)",
+        &mean_se_lines("mean over runs", t, em, ee, PALETTE[1]),
+        false,
+    )
 }
