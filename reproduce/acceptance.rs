@@ -23,7 +23,11 @@ enum What {
     /// measure the spread over the open choices (pipe on the fast engine).
     Pilot {
         /// fig2 (PH94 Fig. 2), waves-fig6 (PH95 Fig. 6), waves-fig7-p0 or
-        /// waves-fig7-b0 (PH95 Fig. 7, p = 0 or b = 0).
+        /// waves-fig7-b0 (PH95 Fig. 7, p = 0 or b = 0), waves-fig8 (PH95
+        /// Fig. 8: the open choices' change of each point's difference to
+        /// p = 0.5, over --open-runs runs per point; --group unused),
+        /// hopper-fig3 (BB90 Fig. 3's flat spectrum, --open-runs runs per
+        /// case of the default reading).
         #[arg(long)]
         figure: String,
         /// Runs per group, at least 3.

@@ -8,10 +8,11 @@
 
 use clap::Parser;
 use granular_automata::cli::Common;
-use granular_automata::drivers::hopper_figures::{draw_fig3, fig3_readings, FIG3_RECORD};
-use granular_automata::hopper::experiment::{run_cases, Case, Plan};
+use granular_automata::drivers::hopper_figures::{
+    draw_fig3, fig3_readings, fig3_setup, FIG3_RECORD,
+};
+use granular_automata::hopper::experiment::{run_cases, Case};
 use granular_automata::hopper::experiment::{WINDOW_BLOCK, WINDOW_FULL, WINDOW_SKIP};
-use granular_automata::hopper::{GeometryParams, HopperParams, RainParams};
 use granular_automata::run::{derive_seed, Figure};
 
 #[derive(Parser, Debug)]
@@ -36,30 +37,14 @@ fn main() -> granular_automata::Result<()> {
     let cases = &cases[..];
     c.reject_shard("hopper-fig3")?;
     let tier = c.tier;
-    let runs = c.runs_or(3, 4, 4);
-    let tall = HopperParams {
-        geometry: GeometryParams {
-            width: 270,
-            height: 200,
-            outlet_width: 7,
-            channel_height: 4,
-        },
-        rain: RainParams {
-            sigma: 18.0,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    let base = tier.pick(HopperParams::quick(), HopperParams::default(), tall);
+    let accepted = granular_automata::drivers::acceptance::margin("hopper-fig3", "white_spectrum");
+    let runs = c.runs_for(3, 4, 4, accepted.map_or(4, |m| m.runs));
+    let (base, plan, m) = fig3_setup(tier);
     let fig = Figure::start("hopper-fig3", "BB90 Fig. 3", tier, base.rules());
-    let mut plan = Plan::new(tier.pick(6_000, 12_000, 20_000), vec![]);
-    plan.fill_fraction = tier.pick(0.7, 0.85, 0.85);
-    plan.min_record = FIG3_RECORD;
-    let m = tier.pick(64, 128, 256);
     let out = fig.output(&c.out)?;
     let seeds: Vec<u64> = (0..runs as u64).map(|r| derive_seed(c.seed, r)).collect();
     let recs = run_cases(base, cases, &seeds, &plan, c.thread_count())?;
-    let readings = fig3_readings(cases, &recs, m)?;
+    let readings = fig3_readings(cases, &recs, m, tier)?;
     // Fig. 3a/b from run 0 of each case; the spectra
     draw_fig3(&out, cases, &recs, &readings)?;
 

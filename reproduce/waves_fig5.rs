@@ -41,7 +41,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, c) = args.wave.start("waves-fig5", "PH95 Fig. 5")?;
     let engine = args.wave.rules.engine(args.wave.common.tier)?;
-    let runs = c.runs_or(8, 16, 64);
+    let accepted = granular_automata::drivers::acceptance::margin("waves-fig5", "wave_speed");
+    let runs = c.runs_for(8, 16, 64, accepted.map_or(64, |m| m.runs));
     let params = args.wave.pipe(args.length, BIN)?;
     let steady = Steady::ph95(c.tier, c.tier.pick(1024, 2048, 2048), T0);
     let (fields, warmup) = (steady.fields, steady.warmup);
@@ -66,7 +67,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seeds = ens.seeds();
 
     // the speed both ways, over all runs and over the runs with bands
-    let readings = fig5_readings(&results, params.length, T0, spec.m)?;
+    let readings = fig5_readings(&results, params.length, T0, spec.m, c.tier)?;
     let fig = readings.explain_missing(fig);
     readings.draw(&out, &results, &seeds, &params, rules)?;
     let summary_params = json!({"L": params.length, "W": params.width, "rho": params.rho, "p": params.p, "g": params.g, "b": params.b, "bin": BIN, "fields": fields, "T0": T0, "warmup": warmup, "max_lag": MAX_LAG, "spectrum": {"m": spec.m, "k": spec.k, "window": spec.window.name()}, "runs": runs});

@@ -9,10 +9,11 @@
 
 use clap::Parser;
 use granular_automata::cli::PipeArgs;
+use granular_automata::drivers::acceptance::fig8_margin;
 use granular_automata::drivers::margins::{ALPHA_MARGIN, V_SAME_MARGIN};
 use granular_automata::drivers::sweep::{
     fig7_check, plot_alpha_v, points_1d, rise_check, same_as_check, Curve, Quantity, SweepFigure,
-    FIG7_QUICK_ALPHA_P0,
+    FIG7_QUICK_ALPHA_P0, FIG8_P,
 };
 use granular_automata::pipe::Params;
 use serde_json::json;
@@ -37,9 +38,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let by_tier: &[f64] = args.common.tier.pick(
         &[0.0, 0.05, 0.2, 0.5, 1.0][..],
         &[0.0, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0][..],
-        &[
-            0.0, 0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0,
-        ][..],
+        &FIG8_P[..],
     );
     let mut ps = if chosen.is_empty() {
         by_tier.to_vec()
@@ -95,7 +94,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ),
         rise_check("alpha_rises_with_p", r0, r5, "p = 0", "p = 0.5"),
     ];
-    for (q, margin, source) in [
+    let acceptance = args.common.tier.is_acceptance();
+    for (q, threshold, source) in [
         (
             Quantity::Alpha,
             ALPHA_MARGIN,
@@ -111,13 +111,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .iter()
             .filter(|r| r.point.x[0] > 0.0 && r.point.x[0] != 0.5)
         {
+            // the acceptance tier's margin: threshold + the point's s_open
+            let m = fig8_margin(q == Quantity::Alpha, r.point.x[0]).filter(|_| acceptance);
             checks.push(same_as_check(
                 &format!("{}_{}_same_as_p0.5", q.name(), r.point.label),
-                source,
+                m.map_or(source, |m| m.source),
                 q,
                 r,
                 r5,
-                margin,
+                m.map_or(threshold, |m| m.delta()),
+                &m.map_or(String::new(), |m| format!("; {}", m.note())),
             ));
         }
     }

@@ -33,6 +33,7 @@
 //!
 //! The margin never depends on the acceptance run's own noise.
 
+use super::margins::{ALPHA_MARGIN, V_SAME_MARGIN};
 use crate::analysis::grading::Claim;
 use serde::Serialize;
 
@@ -92,7 +93,7 @@ impl Margin {
 
 /// The acceptance margins, one row per published claim with a number
 /// (EXPERIMENTS.md "Acceptance at the published set-ups" has the table).
-pub const MARGINS: [Margin; 6] = [
+pub const MARGINS: [Margin; 9] = [
     Margin {
         figure: "fig2",
         check: "alpha",
@@ -151,6 +152,42 @@ pub const MARGINS: [Margin; 6] = [
         runs: 8,
         derivation: "'exactly': a spectral line is placed to one frequency bin, threshold two bins of m = 16384 (0.0013); s_open = 0.0007 (segments of M = 16384 samples, m = 8192), 16 pilot runs of base seed 9001, rounded up; runs: every pilot run has its peak at v = 0.5002 (SE 0), 8 as the figure's white-noise claims",
     },
+    Margin {
+        figure: "waves-fig5",
+        check: "wave_speed",
+        source: "PH95 III C, Fig. 5 (v = 0.36 +- 0.05 at L = 512, from the shift of maximal overlap)",
+        published: 0.36,
+        sigma_pub: 0.05,
+        s_open: 0.051,
+        u_digits: 0.0,
+        threshold: 0.0,
+        runs: 128,
+        derivation: "s_open = 0.0502 (slope over the late lags 11..=20 instead of all 20: -0.0321 against -0.0823; the paper does not say which intervals it fits), 256 pilot runs of base seed 9001 (waves-fig5 --tier acceptance --runs 256), rounded up; runs: pilot |v| 0.120, 0.22 per run, ~80 runs decide in 95 % of seed sets, 128",
+    },
+    Margin {
+        figure: "waves-fig5",
+        check: "speeds_agree",
+        source: "PH95 III C, Fig. 5 (the speed from the overlap and from the spectral peak coincide, v = 0.36 +- 0.05)",
+        published: 0.0,
+        sigma_pub: 0.05,
+        s_open: 0.051,
+        u_digits: 0.0,
+        threshold: 0.0,
+        runs: 128,
+        derivation: "the published error bar of the speed; s_open = 0.0502 (the overlap speed's fitted lags, as wave_speed; the spectral speed per run against that of the averaged spectrum changes it by 0.0299), 256 pilot runs of base seed 9001, rounded up; runs: pilot difference 0.071, 0.23 per run, ~113 runs decide in 95 % of seed sets, 128",
+    },
+    Margin {
+        figure: "hopper-fig3",
+        check: "white_spectrum",
+        source: "BB90 Fig. 3 (a flat power spectrum of the outflow)",
+        published: 0.0,
+        sigma_pub: 0.0,
+        s_open: 0.011,
+        u_digits: 0.0,
+        threshold: WHITE_THRESHOLD,
+        runs: 16,
+        derivation: "no number in the paper ('flat'): threshold |slope| <= 0.1, the pipe's white-noise threshold; s_open = 0.0100 (m = 512 instead of 256 at beta = 0; 0.0032 at beta = 1; m is not stated), 32 pilot runs per case of base seed 9001 (acceptance pilot --figure hopper-fig3), rounded up; runs: pilot slopes -0.039 and -0.027, jackknife SE 0.009-0.010 at 32 runs: 7-9 runs decide in 95 % of seed sets, 16 for Student's t",
+    },
 ];
 
 /// The margin of "white noise" (alpha about 0), a claim without a number:
@@ -179,6 +216,71 @@ const fn white(check: &'static str, source: &'static str, s_open: f64) -> Margin
 /// The derivation written with the white-noise rows.
 const WHITE_REASON: &str = "no number in the paper ('white'): threshold |alpha| <= 0.1 (pipe-matrix margin, fixed in session 2); s_open from 16 pilot runs of base seed 9001 (p = 0: 0.0452, segments of M = 16384 samples; b = 0: 0.2625, the removed peak's width, the line at v = 1/2 being large), rounded up; runs: pilot alpha -0.58 (p = 0) and -3.33 (b = 0), 0.17 and 0.18 per run: 2-3 runs decide in 95 % of seed sets, 8 for Student's t";
 
+/// Runs per point of PH95 Fig. 8 at the acceptance tier: the pilot's power
+/// (16 runs per point, base seed 9001; EXPERIMENTS.md "Acceptance") gives
+/// <= 162 runs for 15 of the 22 claims and 224-4722 for the other 7; 128
+/// (about 25 min wall on 2 cores) is the affordable count.
+pub const FIG8_RUNS: usize = 128;
+
+/// s_open of PH95 Fig. 8's claims "alpha (v) at p equals that at p = 0.5":
+/// per p, the largest change of the difference over the open choices
+/// (window, segment readings, removed peak width), measured on 16 pilot runs
+/// per point of base seed 9001 (`acceptance pilot --figure waves-fig8`),
+/// rounded up to 0.001: (p, s_open of alpha, s_open of v). Below p = 0.4
+/// the spectrum has no clear peak and its argmax moves with the segment
+/// reading (up to 0.306 at p = 0.05).
+pub const FIG8_S_OPEN: [(f64, f64, f64); 11] = [
+    (0.02, 0.027, 0.090),
+    (0.05, 0.035, 0.306),
+    (0.1, 0.026, 0.073),
+    (0.2, 0.021, 0.007),
+    (0.3, 0.042, 0.105),
+    (0.4, 0.034, 0.001),
+    (0.6, 0.006, 0.002),
+    (0.7, 0.006, 0.002),
+    (0.8, 0.006, 0.002),
+    (0.9, 0.011, 0.003),
+    (1.0, 0.020, 0.016),
+];
+
+/// The acceptance margin of PH95 Fig. 8's claim that alpha (`alpha` true)
+/// or v at dissipation `p` equals its value at p = 0.5: the threshold of the
+/// claim without a number (alpha [`ALPHA_MARGIN`], v [`V_SAME_MARGIN`],
+/// the reproduction matrix's, fixed in session 2) plus the point's s_open
+/// ([`FIG8_S_OPEN`]). None for a p the pilot did not measure.
+pub fn fig8_margin(alpha: bool, p: f64) -> Option<Margin> {
+    let &(_, sa, sv) = FIG8_S_OPEN.iter().find(|r| r.0 == p)?;
+    Some(Margin {
+        figure: "waves-fig8",
+        check: if alpha {
+            "alpha_same_as_p0.5"
+        } else {
+            "v_same_as_p0.5"
+        },
+        source: if alpha {
+            "PH95 Fig. 8a, III F (alpha about constant for every p > 0)"
+        } else {
+            "PH95 Fig. 8b, III F (v does not change with p within the error bars)"
+        },
+        published: 0.0,
+        sigma_pub: 0.0,
+        s_open: if alpha { sa } else { sv },
+        u_digits: 0.0,
+        threshold: if alpha { ALPHA_MARGIN } else { V_SAME_MARGIN },
+        runs: FIG8_RUNS,
+        derivation: "no number in the paper: the difference to p = 0.5 within the matrix's threshold (alpha 0.1, v 0.05, fixed in session 2); s_open of this point's difference from 16 pilot runs per point of base seed 9001, rounded up; runs: the pilot's power, see FIG8_RUNS",
+    })
+}
+
+/// Runs per point of sweep figure `binary` at the acceptance tier: waves-fig8
+/// [`FIG8_RUNS`], the others the paper tier's 32.
+pub fn sweep_runs(binary: &str) -> usize {
+    match binary {
+        "waves-fig8" => FIG8_RUNS,
+        _ => 32,
+    }
+}
+
 /// The acceptance margin of check `check` of figure `figure`, if it has one.
 pub fn margin(figure: &str, check: &str) -> Option<&'static Margin> {
     MARGINS
@@ -200,6 +302,13 @@ mod tests {
             assert!(margin(m.figure, m.check).is_some());
         }
         assert!(margin("fig2", "nothing").is_none());
+        for alpha in [true, false] {
+            for &(p, _, _) in &FIG8_S_OPEN {
+                let m = fig8_margin(alpha, p).unwrap();
+                assert!(m.delta() > m.threshold && m.source.starts_with("PH95"));
+            }
+            assert!(fig8_margin(alpha, 0.5).is_none() && fig8_margin(alpha, 0.0).is_none());
+        }
     }
 
     /// Runs whose spectra are P(j) = j^-a with a peak at bin 589 and a

@@ -387,7 +387,7 @@ fn case_of(figure: &str) -> crate::Result<PilotCase> {
         other => Err(crate::Error::out_of_range(
             "--figure",
             other,
-            "{fig2, waves-fig6, waves-fig7-p0, waves-fig7-b0}",
+            "{fig2, waves-fig6, waves-fig7-p0, waves-fig7-b0, waves-fig8, hopper-fig3}",
         )),
     }
 }
@@ -399,6 +399,11 @@ fn case_of(figure: &str) -> crate::Result<PilotCase> {
 /// the runs each check needs to decide; printed and written to
 /// `OUT/<binary>/pilot-<name>-group<group>.json`.
 pub fn pilot_study(common: &Common, figure: &str, group: usize, open_runs: usize) -> Result<()> {
+    match figure {
+        "waves-fig8" => return sweep_pilot(common, open_runs),
+        "hopper-fig3" => return hopper_pilot(common, open_runs),
+        _ => {}
+    }
     let case = case_of(figure)?;
     let setup = tier_setup(common.tier, case.params, Rules::default(), Engine::Fast);
     let runs = common.runs.unwrap_or(384);
@@ -499,6 +504,197 @@ pub fn pilot_study(common: &Common, figure: &str, group: usize, open_runs: usize
         )
     })?;
     write_atomic(&path, text.as_bytes())?;
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+/// `acceptance pilot --figure hopper-fig3`: the pilot of BB90 Fig. 3's
+/// flat spectrum at the paper set-up, for the default reading's two cases
+/// (beta = 1 along-bond, beta = 0), `runs` runs each (reference engine):
+/// the slope of the averaged spectrum with its jackknife SE over runs; its
+/// change when m (256, the paper tier's) is halved or doubled, the choice
+/// the paper leaves open (s_open); and the runs that decide the check.
+pub fn hopper_pilot(common: &Common, runs: usize) -> Result<()> {
+    use super::hopper_figures::{fig3_setup, slope_jackknife_se};
+    use crate::hopper::experiment::{analyse_outflow, run_cases, Case};
+    if runs < 3 {
+        return Err(crate::Error::out_of_range("--open-runs", runs, "[3, ...)"));
+    }
+    let (base, plan, m) = fig3_setup(common.tier);
+    let cases = Case::parse_list("beta1_bond,beta0")?;
+    let seeds: Vec<u64> = (0..runs as u64)
+        .map(|i| derive_seed(common.seed, i))
+        .collect();
+    let recs = run_cases(base, &cases, &seeds, &plan, common.thread_count())?;
+    let mut rows = Vec::new();
+    println!(
+        "hopper-fig3 pilot: {runs} runs per case, base seed {}, m = {m}",
+        common.seed
+    );
+    for (case, rs) in cases.iter().zip(&recs) {
+        let slope = analyse_outflow(rs, m)?.fit.slope;
+        let se = slope_jackknife_se(rs, m)?;
+        let mut s_open = 0f64;
+        let mut open = Vec::new();
+        for mm in [m / 2, m * 2] {
+            let other = analyse_outflow(rs, mm)?.fit.slope;
+            s_open = s_open.max((other - slope).abs());
+            open.push(serde_json::json!({"m": mm, "slope": other}));
+        }
+        let delta = super::acceptance::WHITE_THRESHOLD + s_open;
+        let n = runs_to_decide(slope, delta, se * (runs as f64).sqrt()).map(f64::ceil);
+        println!(
+            "  {:12} slope {slope:+.4} +- {se:.4} (jackknife); s_open (m = {}, {}) {s_open:.4}; Delta {delta:.4}: runs to decide {n:?}",
+            case.key,
+            m / 2,
+            m * 2
+        );
+        rows.push(
+            serde_json::json!({"case": case.key, "slope": slope, "jackknife_se": se,
+            "open": open, "s_open": s_open, "runs_to_decide": n}),
+        );
+    }
+    let json = serde_json::json!({"figure": "hopper-fig3", "seed": common.seed, "runs": runs,
+        "tier": common.tier.name(), "m": m, "cases": rows});
+    let path = common.out.join("hopper-fig3").join("pilot.json");
+    let text = serde_json::to_string_pretty(&json).map_err(|e| {
+        crate::Error::new(
+            crate::error::ErrorKind::Io,
+            format!("{}: {e}", path.display()),
+        )
+    })?;
+    write_to(&path, &text)
+}
+
+/// One point of [`sweep_pilot`]: the swept value, the open choices'
+/// (alpha, v) of its averaged spectrum, and the acceptance estimates.
+struct SweepPilotPoint {
+    x: f64,
+    open: Vec<(&'static str, f64, f64, f64)>,
+    alpha: Estimate,
+    v: Estimate,
+}
+
+/// `acceptance pilot --figure waves-fig8`: the pilot of PH95 Fig. 8's
+/// "same as at p = 0.5" claims at the paper set-up (fast engine, default
+/// reading). For each p of [`super::sweep::FIG8_P`] above 0, `runs` runs
+/// (series re-simulated, not saved): the difference alpha(p) - alpha(0.5)
+/// and v(p) - v(0.5) under each open choice, whose largest change over the
+/// choices and the points is s_open of a difference; and the acceptance
+/// estimators' SEs, from which the runs that decide each point.
+pub fn sweep_pilot(common: &Common, runs: usize) -> Result<()> {
+    use super::margins::{ALPHA_MARGIN, V_SAME_MARGIN};
+    if runs < 3 {
+        return Err(crate::Error::out_of_range("--open-runs", runs, "[3, ...)"));
+    }
+    let base = Params::default();
+    let seeds: Vec<u64> = (0..runs as u64)
+        .map(|i| derive_seed(common.seed, i))
+        .collect();
+    let mut points = Vec::new();
+    for &x in super::sweep::FIG8_P.iter().filter(|&&x| x > 0.0) {
+        let setup = tier_setup(
+            common.tier,
+            Params { p: x, ..base },
+            Rules::default(),
+            Engine::Fast,
+        );
+        eprintln!(
+            "waves-fig8 pilot: p = {x}, {runs} runs of {} steps",
+            setup.steps()
+        );
+        let series = ensemble_with_threads(runs, common.thread_count(), |i| {
+            bin_series(&setup, seeds[i], &|_| {})
+        })
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?;
+        let open = open_choice_values(&setup, &series)?;
+        let rows = series
+            .iter()
+            .map(|s| spctrm(s, &setup.spectrum_params()))
+            .collect::<Result<Vec<_>>>()?;
+        points.push(SweepPilotPoint {
+            x,
+            open,
+            alpha: alpha_of_mean(&rows)?,
+            v: v_of_mean(&rows, setup.params.length, setup.t0)?,
+        });
+    }
+    let Some(reference) = points.iter().find(|p| p.x == 0.5) else {
+        return Err(crate::Error::new(
+            crate::error::ErrorKind::InvalidParameter,
+            "waves-fig8 pilot: p = 0.5 missing from FIG8_P".to_string(),
+        ));
+    };
+    let (mut sa, mut sv) = (0f64, 0f64);
+    let mut rows = Vec::new();
+    println!(
+        "waves-fig8 pilot: {runs} runs per point, base seed {}; change of the difference to p = 0.5 under each open choice",
+        common.seed
+    );
+    for p in points.iter().filter(|p| p.x != 0.5) {
+        let (da0, dv0) = (
+            p.open[0].1 - reference.open[0].1,
+            p.open[0].2 - reference.open[0].2,
+        );
+        for (c, rc) in p.open.iter().zip(&reference.open).skip(1) {
+            let (da, dv) = (c.1 - rc.1 - da0, c.2 - rc.2 - dv0);
+            println!("  p = {:<5} {:24} alpha {da:+.4}  v {dv:+.4}", p.x, c.0);
+            sa = sa.max(da.abs());
+            sv = sv.max(dv.abs());
+        }
+        rows.push((p, p.alpha.minus(reference.alpha), p.v.minus(reference.v)));
+    }
+    println!("s_open of a difference: alpha {sa:.4}, v {sv:.4}");
+    let mut json_rows = Vec::new();
+    for (p, da, dv) in &rows {
+        let power = |d: Estimate, delta: f64| {
+            runs_to_decide(d.mean, delta, d.se * (runs as f64).sqrt()).map(f64::ceil)
+        };
+        let (na, nv) = (
+            power(*da, ALPHA_MARGIN + sa),
+            power(*dv, V_SAME_MARGIN + sv),
+        );
+        println!(
+            "  p = {:<5} alpha diff {:+.4} +- {:.4} (runs to decide {:?})   v diff {:+.4} +- {:.4} (runs to decide {:?})",
+            p.x, da.mean, da.se, na, dv.mean, dv.se, nv
+        );
+        json_rows.push(serde_json::json!({
+            "p": p.x, "alpha_diff": da.mean, "alpha_diff_se": da.se, "alpha_runs_to_decide": na,
+            "v_diff": dv.mean, "v_diff_se": dv.se, "v_runs_to_decide": nv,
+            "open": p.open.iter().map(|(n, a, v, _)| serde_json::json!({"choice": n, "alpha": a, "v": v})).collect::<Vec<_>>(),
+        }));
+    }
+    let json = serde_json::json!({
+        "figure": "waves-fig8", "seed": common.seed, "runs": runs, "tier": common.tier.name(),
+        "s_open_alpha_difference": sa, "s_open_v_difference": sv,
+        "reference_open": reference.open.iter().map(|(n, a, v, _)| serde_json::json!({"choice": n, "alpha": a, "v": v})).collect::<Vec<_>>(),
+        "points": json_rows,
+    });
+    let path = common
+        .out
+        .join("waves-fig8")
+        .join("pilot-open-differences.json");
+    let text = serde_json::to_string_pretty(&json).map_err(|e| {
+        crate::Error::new(
+            crate::error::ErrorKind::Io,
+            format!("{}: {e}", path.display()),
+        )
+    })?;
+    write_to(&path, &text)
+}
+
+/// Write a pilot's JSON to `path`, making its folder, and say so.
+fn write_to(path: &std::path::Path, text: &str) -> Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            crate::Error::new(
+                crate::error::ErrorKind::Io,
+                format!("{}: {e}", dir.display()),
+            )
+        })?;
+    }
+    write_atomic(path, text.as_bytes())?;
     println!("wrote {}", path.display());
     Ok(())
 }

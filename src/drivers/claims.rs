@@ -18,7 +18,7 @@ use super::open_pipe::{
 };
 use super::spectra::{tier_setup, SpectrumEnsemble};
 use super::sweep::{
-    alpha_check, reduce, same_as_check, sweep_run, PointResult, Quantity, SweepPoint,
+    alpha_check, reduce, same_as_check, sweep_run, Estimator, PointResult, Quantity, SweepPoint,
 };
 use crate::analysis::relaxation::Saturation;
 use crate::analysis::spectrum::{SpectrumParams, Window};
@@ -632,7 +632,7 @@ impl Grader<'_> {
             x: vec![],
             params,
         };
-        reduce(&point, &setup, runs)
+        reduce(&point, &setup, runs, Estimator::PerRun)
     }
 
     /// The spectrum claims of PH94 Fig. 2 and PH95 Figs. 6-8.
@@ -689,7 +689,7 @@ impl Grader<'_> {
                 .iter()
                 .map(|r| {
                     let name = format!("{}_{}", q.name(), r.point.label);
-                    same_as_check(&name, source, q, r, &fig2, margin)
+                    same_as_check(&name, source, q, r, &fig2, margin, "")
                 })
                 .collect();
             out.push(from_checks(claim, &checks));

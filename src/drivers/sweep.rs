@@ -57,6 +57,53 @@ pub struct PointResult {
     pub invalid: usize,
     /// The combined ensemble of the valid runs (None if none is valid).
     pub ensemble: Option<SpectrumEnsemble>,
+    /// At the acceptance tier, alpha and v of the averaged spectrum with
+    /// their resampled SEs ([`Estimator::AveragedSpectrum`]); what the
+    /// point is graded and plotted with when present.
+    pub of_mean: Option<OfMean>,
+}
+
+/// alpha and v of a point's averaged spectrum, with the jackknife and the
+/// bootstrap SE over runs (`analysis::mean_spectrum`).
+#[derive(Debug, Clone, Copy)]
+pub struct OfMean {
+    /// alpha of the averaged spectrum, jackknife SE.
+    pub alpha: Estimate,
+    /// v of the peak of the averaged spectrum, bootstrap SE.
+    pub v: Estimate,
+}
+
+/// How a sweep point's alpha and v are estimated for grading: one rule
+/// per tier, fixed before the acceptance runs (EXPERIMENTS.md "Acceptance at
+/// the published set-ups": chosen on PH94 Fig. 2's pilot, applied to every
+/// spectrum ensemble graded at the acceptance tier).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Estimator {
+    /// Mean of the per-run values, SE of their spread (quick, standard, paper).
+    PerRun,
+    /// alpha and v of the averaged spectrum, resampled SEs (acceptance).
+    AveragedSpectrum,
+}
+
+impl Estimator {
+    /// The estimator of `tier`.
+    pub fn of_tier(tier: crate::run::Tier) -> Self {
+        if tier.is_acceptance() {
+            Estimator::AveragedSpectrum
+        } else {
+            Estimator::PerRun
+        }
+    }
+
+    /// How the estimate is described in a check's note.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Estimator::PerRun => "per-run values, SEs combined",
+            Estimator::AveragedSpectrum => {
+                "averaged spectra: alpha jackknife, v bootstrap SE over runs; SEs combined"
+            }
+        }
+    }
 }
 
 impl PointResult {
@@ -119,11 +166,13 @@ pub fn sweep_run(
     }
 }
 
-/// Reduce the outcomes of one point.
+/// Reduce the outcomes of one point; with [`Estimator::AveragedSpectrum`]
+/// (and at least 3 valid runs) also the estimates of the averaged spectrum.
 pub fn reduce(
     point: &SweepPoint,
     setup: &SpectrumSetup,
     outcomes: Vec<RunOutcome>,
+    estimator: Estimator,
 ) -> Result<PointResult> {
     let mut valid = Vec::new();
     let mut invalid = 0;
@@ -144,11 +193,23 @@ pub fn reduce(
             valid: 0,
             invalid,
             ensemble: None,
+            of_mean: None,
         });
     }
     let vs: Vec<f64> = valid.iter().map(|r| r.v_peak).collect();
     let (v, v_err) = mean_sem(&vs);
     let ens = combine(setup, valid)?;
+    let of_mean = match estimator {
+        Estimator::AveragedSpectrum if n_valid >= 3 => {
+            use crate::analysis::mean_spectrum::{alpha_of_mean, v_of_mean};
+            let rows = ens.spectra();
+            Some(OfMean {
+                alpha: alpha_of_mean(&rows)?,
+                v: v_of_mean(&rows, setup.params.length, setup.t0)?,
+            })
+        }
+        _ => None,
+    };
     Ok(PointResult {
         point: point.clone(),
         alpha: ens.alpha,
@@ -158,6 +219,7 @@ pub fn reduce(
         valid: n_valid,
         invalid,
         ensemble: Some(ens),
+        of_mean,
     })
 }
 
@@ -188,7 +250,9 @@ pub fn run_sweep(
         let key = serde_json::json!({"sweep-point": point.label, "spectrum": setup});
         let ens = common.ensemble(binary, &key, runs)?;
         match ens.run(setup.steps(), |_, seed, tick| sweep_run(&setup, seed, tick))? {
-            Outcome::Complete(v) => out.push(reduce(point, &setup, v)?),
+            Outcome::Complete(v) => {
+                out.push(reduce(point, &setup, v, Estimator::of_tier(common.tier))?)
+            }
             Outcome::ShardDone { shard, runs, dir } => {
                 println!(
                     "{binary} {}: shard {shard} done, {runs} runs in {}",
@@ -258,12 +322,10 @@ impl Quantity {
         }
     }
 
-    /// (value, standard error) of a point.
+    /// (value, standard error) of a point, as graded.
     pub fn of(self, r: &PointResult) -> (f64, f64) {
-        match self {
-            Quantity::Alpha => (r.alpha, r.alpha_err),
-            Quantity::V => (r.v, r.v_err),
-        }
+        let e = r.estimate(self);
+        (e.mean, e.se)
     }
 }
 
@@ -321,13 +383,21 @@ pub fn plot_alpha_v(
 }
 
 /// Metrics of a point: `alpha_<label>`, `alpha_<label>_err`, `v_<label>`,
-/// `v_<label>_err`, and `invalid_<label>` when any run was invalid.
+/// `v_<label>_err` (per-run values), those of the averaged spectrum when it
+/// is graded (`alpha_of_mean_<label>`, `..._jackknife_se`, `v_of_mean_<label>`,
+/// `..._bootstrap_se`), and `invalid_<label>` when any run was invalid.
 pub fn point_metrics(r: &PointResult, m: &mut std::collections::BTreeMap<String, f64>) {
     let l = &r.point.label;
     m.insert(format!("alpha_{l}"), r.alpha);
     m.insert(format!("alpha_{l}_err"), r.alpha_err);
     m.insert(format!("v_{l}"), r.v);
     m.insert(format!("v_{l}_err"), r.v_err);
+    if let Some(o) = r.of_mean {
+        m.insert(format!("alpha_of_mean_{l}"), o.alpha.mean);
+        m.insert(format!("alpha_of_mean_{l}_jackknife_se"), o.alpha.se);
+        m.insert(format!("v_of_mean_{l}"), o.v.mean);
+        m.insert(format!("v_of_mean_{l}_bootstrap_se"), o.v.se);
+    }
     if r.invalid > 0 {
         m.insert(format!("invalid_runs_{l}"), r.invalid as f64);
     }
@@ -347,14 +417,33 @@ pub const FIG7_QUICK_ALPHA_B0: (f64, f64) = (-3.0229, 0.0966);
 pub const PINNED_ALPHA_MARGIN: f64 = super::margins::ALPHA_MARGIN;
 
 impl PointResult {
-    /// The per-run alpha of the valid runs as an estimate for grading.
+    /// alpha as graded: of the averaged spectrum when [`PointResult::of_mean`]
+    /// is present, else the per-run alpha of the valid runs.
     pub fn alpha_estimate(&self) -> Estimate {
-        Estimate::new(self.alpha, self.alpha_err, self.valid)
+        self.estimate(Quantity::Alpha)
     }
 
-    /// The per-run peak velocity of the valid runs as an estimate.
+    /// v as graded (see [`PointResult::alpha_estimate`]).
     pub fn v_estimate(&self) -> Estimate {
-        Estimate::new(self.v, self.v_err, self.valid)
+        self.estimate(Quantity::V)
+    }
+
+    /// `q` as graded (see [`PointResult::alpha_estimate`]).
+    pub fn estimate(&self, q: Quantity) -> Estimate {
+        match (q, self.of_mean) {
+            (Quantity::Alpha, Some(m)) => m.alpha,
+            (Quantity::V, Some(m)) => m.v,
+            (Quantity::Alpha, None) => Estimate::new(self.alpha, self.alpha_err, self.valid),
+            (Quantity::V, None) => Estimate::new(self.v, self.v_err, self.valid),
+        }
+    }
+
+    /// The estimator this point is graded with.
+    pub fn estimator(&self) -> Estimator {
+        match self.of_mean {
+            Some(_) => Estimator::AveragedSpectrum,
+            None => Estimator::PerRun,
+        }
     }
 }
 
@@ -387,7 +476,8 @@ pub fn fig7_check(
 
 /// A published claim "`q` at point `r` equals `q` at `reference`" (PH95
 /// Fig. 8: alpha constant for every p > 0, v independent of p): the
-/// difference of the two points (SEs in quadrature) within `margin` of 0.
+/// difference of the two points (SEs in quadrature) within `margin` of 0;
+/// `derivation` (empty, or starting with "; ") is appended to the note.
 pub fn same_as_check(
     name: &str,
     source: &str,
@@ -395,25 +485,23 @@ pub fn same_as_check(
     r: &PointResult,
     reference: &PointResult,
     margin: f64,
+    derivation: &str,
 ) -> crate::run::Check {
-    let est = |p: &PointResult| match q {
-        Quantity::Alpha => p.alpha_estimate(),
-        Quantity::V => p.v_estimate(),
-    };
     crate::run::Check::published(
         name,
         source,
-        est(r).minus(est(reference)),
+        r.estimate(q).minus(reference.estimate(q)),
         Claim::Within {
             target: 0.0,
             margin,
         },
         &format!(
-            "{}({}) - {}({}) within Delta = {margin} of 0 (per-run values, SEs combined)",
+            "{}({}) - {}({}) within Delta = {margin} of 0 ({}){derivation}",
             q.name(),
             r.point.label,
             q.name(),
-            reference.point.label
+            reference.point.label,
+            r.estimator().describe()
         ),
     )
 }
@@ -439,6 +527,12 @@ pub fn alpha_check(
         ),
     )
 }
+
+/// The dissipation values of PH95 Fig. 8 at the paper and acceptance tiers
+/// (the published figure's points).
+pub const FIG8_P: [f64; 13] = [
+    0.0, 0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0,
+];
 
 /// The points of a one-parameter sweep: for each value v, the label
 /// `<name><v>` (e.g. `p0.05`), x = `[v]` and the pipe `set(v)`.
@@ -498,7 +592,8 @@ pub struct SweepFigure<'a> {
 
 impl<'a> SweepFigure<'a> {
     /// Run every point of figure `binary` (reproducing `paper`) with
-    /// `--runs` runs (default by tier: quick 2, standard 8, paper 32),
+    /// `--runs` runs (default by tier: quick 2, standard 8, paper 32,
+    /// acceptance [`super::acceptance::sweep_runs`]),
     /// spectra of the tier's set-up ([`super::spectra::tier_setup`]),
     /// through [`run_sweep`]. `None` when only a shard was computed.
     pub fn run(
@@ -509,7 +604,7 @@ impl<'a> SweepFigure<'a> {
     ) -> Result<Option<Self>> {
         let (figure, rules, c) = args.rules.start(&args.common, binary, paper)?;
         let engine = args.rules.engine(args.common.tier)?;
-        let runs = c.runs_or(2, 8, 32);
+        let runs = c.runs_for(2, 8, 32, super::acceptance::sweep_runs(binary));
         let setup_of = |p| super::spectra::tier_setup(c.tier, p, rules, engine);
         let Some(results) = run_sweep(c, binary, &points, runs, setup_of)? else {
             return Ok(None);
@@ -612,6 +707,7 @@ mod tests {
                 RunOutcome::Invalid("rest".into()),
                 RunOutcome::Invalid("rest".into()),
             ],
+            Estimator::AveragedSpectrum,
         )
         .unwrap();
         assert_eq!((r.valid, r.invalid), (0, 2));
