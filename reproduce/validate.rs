@@ -6,7 +6,7 @@
 //! `cargo run --release --bin validate -- --candidate mutant:p+10% --level 1`
 
 use clap::Parser;
-use granular_automata::cli::parse_count;
+use granular_automata::cli::{parse_count, parse_real};
 use granular_automata::pipe::Rules;
 use granular_automata::run::{progress, write_atomic, Output, Tier};
 use granular_automata::validate::candidate::Candidate;
@@ -50,6 +50,11 @@ struct Args {
     /// Output folder; the report goes to OUT/validate/.
     #[arg(long, default_value = "results")]
     out: PathBuf,
+    /// Wall-time limit in seconds of each run of a `cmd:` candidate,
+    /// 0.001..=1000000 (default: one minute plus 10 microseconds per site
+    /// update of the run's plan); a run over it is stopped and named.
+    #[arg(long, value_parser = |s: &str| parse_real("--run-timeout", s, 0.001, 1e6), allow_negative_numbers = true)]
+    run_timeout: Option<f64>,
     /// Write the reference's exact level-1 table as JSON to this file and exit.
     #[arg(long)]
     export_table: Option<PathBuf>,
@@ -97,7 +102,8 @@ fn usage(args: &Args) -> granular_automata::Result<Setup> {
     size.trials = args.trials.unwrap_or(size.trials);
     size.runs = args.runs.unwrap_or(size.runs);
     size.hopper_runs = args.hopper_runs.unwrap_or(size.hopper_runs);
-    let cand = candidate_from(&args.candidate)?;
+    let limit = args.run_timeout.map(std::time::Duration::from_secs_f64);
+    let cand = candidate_from(&args.candidate, limit)?;
     validate::check_model(cand.as_ref(), args.model)?;
     Ok(Setup::Validate(cand, size))
 }

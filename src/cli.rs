@@ -28,6 +28,21 @@ pub fn parse_count(name: &str, s: &str, lo: usize, hi: usize) -> crate::Result<u
     }
 }
 
+/// Parse `s` as the value of option `name`: a finite number in
+/// `lo..=hi`, or an error naming the value and the range.
+pub fn parse_real(name: &str, s: &str, lo: f64, hi: f64) -> crate::Result<f64> {
+    let range = format!("{lo}..={hi}");
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| crate::Error::out_of_range(name, s, &range))?;
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(crate::Error::out_of_range(name, v, &range))
+    }
+}
+
 /// Parse `--runs`: a whole number in 1..=[`MAX_RUNS`].
 pub fn parse_runs(s: &str) -> crate::Result<usize> {
     parse_count("--runs", s, 1, MAX_RUNS)

@@ -281,3 +281,35 @@ fn fewer_than_three_runs_decide_nothing_and_say_why() {
         assert!(note.contains("at least 3 are needed"), "{note}");
     }
 }
+
+/// A candidate that stalls is stopped at the time limit and named with its
+/// plan (issue 33 item 6), not waited for: `sleep 100` stands for a
+/// deadlocked engine.
+#[test]
+fn a_stalled_candidate_is_stopped_and_named() {
+    let dir = out("stalled");
+    let start = std::time::Instant::now();
+    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
+        .args([
+            "--candidate",
+            "cmd:sleep 100 #",
+            "--level",
+            "1",
+            "--model",
+            "pipe",
+        ])
+        .args(["--run-timeout", "0.5", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("time limit of 0.5 s") && err.contains("plan seed"),
+        "{err}"
+    );
+    assert!(start.elapsed().as_secs() < 30, "took {:?}", start.elapsed());
+    // a limit outside its range is a usage error naming it
+    let args = ["--candidate", "cmd:true", "--run-timeout", "0"];
+    common::fails_with(env!("CARGO_BIN_EXE_validate"), args, "--run-timeout");
+}

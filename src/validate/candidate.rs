@@ -8,8 +8,10 @@ use crate::hopper::engine::HopperBuilder;
 use crate::pipe::engine::{EngineBuilder, PipeEngine};
 use crate::pipe::{Flux, Params, Rules};
 use serde::{Deserialize, Serialize};
-use std::io::Write;
+use std::io::{Read, Write};
+use std::os::unix::process::CommandExt;
 use std::process::{Command, Stdio};
+use std::time::Duration;
 
 /// What a candidate runs: one run of the automaton and what to record.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -148,6 +150,44 @@ fn sample(e: &dyn PipeEngine, t: u64, bins: &[f64], with_sites: bool) -> Sample 
 pub struct External {
     /// The command line (run by `sh -c`, arguments appended).
     pub command: String,
+    /// The wall-time limit of one run (`validate --run-timeout`); `None`:
+    /// [`default_time_limit`] of its plan.
+    pub time_limit: Option<Duration>,
+    /// The error of the first run that stalled: every later run fails with
+    /// it at once, so that a level stops within about one limit instead of
+    /// waiting out the limit of each of its runs.
+    pub stalled: std::sync::Arc<std::sync::OnceLock<String>>,
+}
+
+impl External {
+    /// An external candidate running `command`, each run limited to
+    /// `time_limit` (`None`: [`default_time_limit`]).
+    pub fn new(command: &str, time_limit: Option<Duration>) -> Self {
+        External {
+            command: command.to_string(),
+            time_limit,
+            stalled: Default::default(),
+        }
+    }
+}
+
+/// The wall-time limit of one external run of `plan` unless one is given:
+/// one minute plus 10 microseconds per site update, so a program slower
+/// than 100000 site updates per second, or one that stalls, is stopped
+/// and named instead of stalling `validate` with it.
+pub fn default_time_limit(plan: &RunPlan) -> Duration {
+    let updates = plan.steps as f64 * plan.params.sites() as f64;
+    Duration::from_secs_f64(60.0 + 1e-5 * updates)
+}
+
+/// Read all of `r` in a thread of its own (a program's stdout or stderr,
+/// so that a full pipe never blocks it).
+fn read_all<R: Read + Send + 'static>(mut r: R) -> std::thread::JoinHandle<Vec<u8>> {
+    std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = r.read_to_end(&mut v);
+        v
+    })
 }
 
 impl Candidate for External {
@@ -158,6 +198,9 @@ impl Candidate for External {
     fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>> {
         check_plan(plan)?;
         let json = serde_json::to_string(plan).expect("a plan serialises");
+        if let Some(first) = self.stalled.get() {
+            return Err(external_error(&self.command, first));
+        }
         let mut child = Command::new("sh")
             .arg("-c")
             .arg(format!("{} \"$@\"", self.command))
@@ -168,18 +211,48 @@ impl Candidate for External {
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
+            .process_group(0) // so that a stopped run takes its children with it
             .spawn()
             .map_err(|e| external_error(&self.command, &format!("cannot start: {e}")))?;
         // a program that exits without reading the plan closes the pipe
         // (EPIPE): what it printed says more than "Broken pipe"
-        let sent = child
-            .stdin
-            .take()
-            .expect("stdin is piped")
-            .write_all(json.as_bytes());
-        let out = child
-            .wait_with_output()
-            .map_err(|e| external_error(&self.command, &format!("did not finish: {e}")))?;
+        let mut stdin = child.stdin.take().expect("stdin is piped");
+        let writer = std::thread::spawn(move || stdin.write_all(json.as_bytes()));
+        let stdout = read_all(child.stdout.take().expect("stdout is piped"));
+        let stderr = read_all(child.stderr.take().expect("stderr is piped"));
+        let limit = self.time_limit.unwrap_or_else(|| default_time_limit(plan));
+        // wait in a thread of its own, so that the limit needs no polling
+        let pid = child.id();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || tx.send(child.wait()));
+        let status = match rx.recv_timeout(limit) {
+            Ok(done) => {
+                done.map_err(|e| external_error(&self.command, &format!("did not finish: {e}")))?
+            }
+            Err(_) => {
+                // the whole process group: `sh` and what it started
+                let _ = Command::new("kill")
+                    .args(["-KILL", "--", &format!("-{pid}")])
+                    .status();
+                let what = format!(
+                    "did not finish its run within the time limit of {:.1} s and was stopped: plan seed {}, {} steps of a {} x {} pipe, a sample every {} steps (set the limit with --run-timeout)",
+                    limit.as_secs_f64(),
+                    plan.seed,
+                    plan.steps,
+                    plan.params.length,
+                    plan.params.width,
+                    plan.every
+                );
+                let _ = self.stalled.set(what.clone());
+                return Err(external_error(&self.command, &what));
+            }
+        };
+        let sent = writer.join().expect("the plan writer does not panic");
+        let out = std::process::Output {
+            status,
+            stdout: stdout.join().expect("the stdout reader does not panic"),
+            stderr: stderr.join().expect("the stderr reader does not panic"),
+        };
         let text = String::from_utf8_lossy(&out.stdout);
         let printed = || match text.trim() {
             "" => "nothing on stdout".to_string(),

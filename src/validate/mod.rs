@@ -68,8 +68,13 @@ impl Model {
 }
 
 /// The candidate named by `spec`: `reference`, `fast` (the bit-sliced
-/// engine, `crate::pipe::fast`), `mutant:NAME` or `cmd:COMMAND`.
-pub fn candidate_from(spec: &str) -> Result<Box<dyn Candidate>> {
+/// engine, `crate::pipe::fast`), `mutant:NAME` or `cmd:COMMAND`; an
+/// external command's runs stop after `time_limit` each (`None`: the
+/// default of its plan, [`candidate::default_time_limit`]).
+pub fn candidate_from(
+    spec: &str,
+    time_limit: Option<std::time::Duration>,
+) -> Result<Box<dyn Candidate>> {
     if spec == "reference" {
         return Ok(Box::new(Builtin(Reference)));
     }
@@ -87,9 +92,7 @@ pub fn candidate_from(spec: &str) -> Result<Box<dyn Candidate>> {
                 "--candidate cmd: needs a command, e.g. cmd:'./my-engine'",
             ));
         }
-        return Ok(Box::new(External {
-            command: cmd.to_string(),
-        }));
+        return Ok(Box::new(External::new(cmd, time_limit)));
     }
     Err(Error::new(
         ErrorKind::InvalidParameter,
