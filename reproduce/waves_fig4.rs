@@ -76,7 +76,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let out = fig.output(&c.out)?;
 
-    let (metrics, checks) = fig4_readings(&per_l);
+    let (metrics, checks) = fig4_readings(&per_l, c.tier);
     let p = args.wave.p;
     draw_fig4(&out, &per_l, p, runs, fields, rules)?;
     let summary_params = json!({"L": args.lengths, "W": 11, "rho": 1.0, "p": p, "g": 0.5, "b": 0.5, "bin": BIN, "fields": fields, "T0": T0, "warmup": warmup, "runs": runs});

@@ -190,6 +190,62 @@ pub const MARGINS: [Margin; 9] = [
     },
 ];
 
+/// A qualitative claim "the statistic exceeds a threshold" graded at the
+/// acceptance tier, where the paper gives no number: the threshold and its
+/// reason. (At the other tiers these claims are graded against 0, which a
+/// statistic whose true value is 0 never decides.)
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Threshold {
+    /// Figure binary.
+    pub figure: &'static str,
+    /// Check name (for a family, its stem: `steep_front` for `steep_front_L<L>`).
+    pub check: &'static str,
+    /// Paper, figure and section of the claim.
+    pub source: &'static str,
+    /// The threshold, fixed before the acceptance runs of fresh seeds.
+    pub threshold: f64,
+    /// Why this threshold, in words.
+    pub reason: &'static str,
+}
+
+impl Threshold {
+    /// The claim "above the threshold".
+    pub fn claim(&self) -> Claim {
+        Claim::Above {
+            threshold: self.threshold,
+        }
+    }
+}
+
+/// The thresholds of the acceptance tier's qualitative claims without a
+/// number (EXPERIMENTS.md "Acceptance", session 16: chosen after the
+/// acceptance suite of base seed 1 had shown both statistics near 0 and
+/// no growth; a threshold above 0 can only turn these claims to "not
+/// reproduced", never flatter the model; graded on fresh seeds).
+pub const THRESHOLDS: [Threshold; 2] = [
+    Threshold {
+        figure: "waves-fig4",
+        check: "steep_front",
+        source: "PH95 III B, Fig. 4 (the wave front is sharper than its back)",
+        threshold: 0.2,
+        reason: "asymmetry (back - front) / (back + front) of the half-widths above 0.2, i.e. a back half-width at least 1.5 times the front's: a sharper front a profile plot shows; a smaller difference is within one lattice row at half-widths of 2.5-3.5 rows",
+    },
+    Threshold {
+        figure: "waves-fig4",
+        check: "width_grows_with_l",
+        source: "PH95 III B, Fig. 4 (the width of the wave scales almost linearly with L)",
+        threshold: 2.0,
+        reason: "width at L = 1024 over width at L = 128 above 2: growth at least as L^(1/3), a third of the linear exponent the paper calls almost linear (linear: 8)",
+    },
+];
+
+/// The acceptance threshold of check `check` of figure `figure`.
+pub fn threshold(figure: &str, check: &str) -> Option<&'static Threshold> {
+    THRESHOLDS
+        .iter()
+        .find(|t| t.figure == figure && t.check == check)
+}
+
 /// The margin of "white noise" (alpha about 0), a claim without a number:
 /// |alpha| <= 0.1, the margin of the pipe-matrix's alpha claims (a spectrum
 /// 1/f^0.1 changes by a factor 1.4 over the 1.4 decades of the fit range,
@@ -302,6 +358,10 @@ mod tests {
             assert!(margin(m.figure, m.check).is_some());
         }
         assert!(margin("fig2", "nothing").is_none());
+        for t in THRESHOLDS {
+            assert!(t.threshold > 0.0 && t.source.starts_with("PH95"), "{t:?}");
+            assert!(threshold(t.figure, t.check).is_some());
+        }
         for alpha in [true, false] {
             for &(p, _, _) in &FIG8_S_OPEN {
                 let m = fig8_margin(alpha, p).unwrap();

@@ -34,7 +34,15 @@ pub type LengthRuns = (Params, Vec<ProfileRun>);
 /// and the random-start bin variance; per L a wave profile above the
 /// alignment bias (and its wave-free control, flat within it), then per L a
 /// steep front, then the width growing from the shortest to the longest L.
-pub fn fig4_readings(per_l: &[LengthRuns]) -> (BTreeMap<String, f64>, Vec<Check>) {
+/// At the acceptance tier the steep front and the growth are graded
+/// against the thresholds of [`super::acceptance::THRESHOLDS`] (the growth
+/// as the ratio of the widths).
+pub fn fig4_readings(
+    per_l: &[LengthRuns],
+    tier: crate::run::Tier,
+) -> (BTreeMap<String, f64>, Vec<Check>) {
+    let accepted =
+        |check| super::acceptance::threshold("waves-fig4", check).filter(|_| tier.is_acceptance());
     let mut metrics = BTreeMap::new();
     let (mut checks, mut steep) = (vec![], vec![]);
     for (params, res) in per_l {
@@ -62,17 +70,46 @@ pub fn fig4_readings(per_l: &[LengthRuns]) -> (BTreeMap<String, f64>, Vec<Check>
             Claim::Below { threshold },
             &format!("flat within noise: excess below null = {null:.4} (expected for a wave-free reading such as p = 0)"),
         ));
-        steep.push(steep_front_check(l, res));
+        steep.push(match accepted("steep_front") {
+            Some(t) => {
+                let a: Vec<f64> = res.iter().map(|r| r.shape.asymmetry).collect();
+                Check::published(
+                    &format!("steep_front_L{l}"),
+                    t.source,
+                    Estimate::of(&a),
+                    t.claim(),
+                    &format!("acceptance threshold: {}", t.reason),
+                )
+            }
+            None => steep_front_check(l, res),
+        });
     }
     checks.extend(steep);
     if per_l.len() > 1 {
         let by_l = |(p, _): &&LengthRuns| p.length;
         let first = per_l.iter().min_by_key(by_l).expect("lengths");
         let last = per_l.iter().max_by_key(by_l).expect("lengths");
-        checks.push(width_grows_check(
-            (first.0.length, &first.1),
-            (last.0.length, &last.1),
-        ));
+        checks.push(match accepted("width_grows_with_l") {
+            Some(t) => {
+                let w = |r: &[ProfileRun]| {
+                    Estimate::of(&r.iter().map(|r| r.shape.width).collect::<Vec<_>>())
+                };
+                let (ws, wl) = (w(&first.1), w(&last.1));
+                let ratio = wl.mean / ws.mean;
+                let se = ratio.abs() * ((wl.se / wl.mean).powi(2) + (ws.se / ws.mean).powi(2)).sqrt();
+                Check::published(
+                    "width_grows_with_l",
+                    t.source,
+                    Estimate::new(ratio, se, ws.n.min(wl.n)),
+                    t.claim(),
+                    &format!(
+                        "width (rows, at half the excess maximum) at L = {} over that at L = {} (SE by the delta method); acceptance threshold: {}",
+                        last.0.length, first.0.length, t.reason
+                    ),
+                )
+            }
+            None => width_grows_check((first.0.length, &first.1), (last.0.length, &last.1)),
+        });
     }
     (metrics, checks)
 }
