@@ -497,15 +497,7 @@ pub fn pilot_study(common: &Common, figure: &str, group: usize, open_runs: usize
         .out
         .join(case.binary)
         .join(format!("pilot-{}-group{group}.json", case.name));
-    let text = serde_json::to_string_pretty(&json).map_err(|e| {
-        crate::Error::new(
-            crate::error::ErrorKind::Io,
-            format!("{}: {e}", path.display()),
-        )
-    })?;
-    write_atomic(&path, text.as_bytes())?;
-    println!("wrote {}", path.display());
-    Ok(())
+    write_json(&path, &json)
 }
 
 /// `acceptance pilot --figure hopper-fig3`: the pilot of BB90 Fig. 3's
@@ -557,13 +549,7 @@ pub fn hopper_pilot(common: &Common, runs: usize) -> Result<()> {
     let json = serde_json::json!({"figure": "hopper-fig3", "seed": common.seed, "runs": runs,
         "tier": common.tier.name(), "m": m, "cases": rows});
     let path = common.out.join("hopper-fig3").join("pilot.json");
-    let text = serde_json::to_string_pretty(&json).map_err(|e| {
-        crate::Error::new(
-            crate::error::ErrorKind::Io,
-            format!("{}: {e}", path.display()),
-        )
-    })?;
-    write_to(&path, &text)
+    write_json(&path, &json)
 }
 
 /// One point of [`sweep_pilot`]: the swept value, the open choices'
@@ -675,24 +661,20 @@ pub fn sweep_pilot(common: &Common, runs: usize) -> Result<()> {
         .out
         .join("waves-fig8")
         .join("pilot-open-differences.json");
-    let text = serde_json::to_string_pretty(&json).map_err(|e| {
+    write_json(&path, &json)
+}
+
+/// Write a pilot's JSON to `path`, making its folder, and say so.
+fn write_json(path: &std::path::Path, json: &serde_json::Value) -> Result<()> {
+    let io = |e: &dyn std::fmt::Display| {
         crate::Error::new(
             crate::error::ErrorKind::Io,
             format!("{}: {e}", path.display()),
         )
-    })?;
-    write_to(&path, &text)
-}
-
-/// Write a pilot's JSON to `path`, making its folder, and say so.
-fn write_to(path: &std::path::Path, text: &str) -> Result<()> {
+    };
+    let text = serde_json::to_string_pretty(json).map_err(|e| io(&e))?;
     if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            crate::Error::new(
-                crate::error::ErrorKind::Io,
-                format!("{}: {e}", dir.display()),
-            )
-        })?;
+        std::fs::create_dir_all(dir).map_err(|e| io(&e))?;
     }
     write_atomic(path, text.as_bytes())?;
     println!("wrote {}", path.display());
