@@ -1,8 +1,9 @@
 //! BB90 Fig. 3: grains leaving the hopper per iteration over 6144 iterations
 //! after opening, raw and averaged over 5 and 11 iterations, and the power
-//! spectrum of the outflow (white noise); with orientation on (beta = 1, both
-//! readings of "aligned": the default same-orientation first, the literal
-//! along-velocity as the comparison) and off (beta = 0) (MODEL.md B4, B6).
+//! spectrum of the outflow (white noise); with orientation on (beta = 1, three
+//! readings of "aligned": the default along-bond first, then same-orientation
+//! and the literal along-velocity as comparisons) and off (beta = 0)
+//! (MODEL.md B4, B6).
 //!
 //! `cargo run --release --bin hopper-fig3 -- --tier quick`
 

@@ -1,6 +1,6 @@
-//! The reproduction matrix (issue 4, extended in issue 14): every rule
-//! reading graded against every published claim of the pipe papers (PH94
-//! Figs. 1-2, PH95 Figs. 3-8, 11-12; `drivers::claims::CLAIMS` lists each
+//! The reproduction matrix (issue 4, extended in issues 14 and 31): every
+//! rule reading graded against every published claim of the pipe papers
+//! (PH94 Figs. 1-2, PH95 Figs. 3-12 and III F; `drivers::claims::CLAIMS` lists each
 //! with its published value, statistic and margin), with the measured value
 //! and its error beside each grade. Each finished reading is saved at once
 //! (`variants/<reading>.json`) and reused when the same command is run again.
@@ -39,8 +39,8 @@ struct Args {
     engine: String,
     /// Groups of claims to grade, comma-separated, or all: bands, spectra,
     /// relaxation, profile, speed, fig11, fig12 (the open pipe's two groups
-    /// cost minutes of CPU per reading in clogging runs); the others are
-    /// listed as not run.
+    /// cost minutes of CPU per reading in clogging runs), dependence (PH95
+    /// III F-H, Figs. 9-10); the others are listed as not run.
     #[arg(long, default_value = "all")]
     groups: String,
 }

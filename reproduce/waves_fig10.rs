@@ -1,20 +1,20 @@
 //! PH95 Fig. 10: (a) alpha against the wall roughness b (p = g = 0.5,
 //! rho = 1) and against gravity g (p = b = 0.5); (b) the wave speed v against
 //! b from 0.25 to 1 for g = 0.5 and the smaller g = 0.2. L = 220, W = 11.
-//! Blind reproduction: the published values are not used.
+//! The published claims of PH95 III H (alpha constant for b > 0 and in g;
+//! v falling with b, more at the smaller g; v changing with g) are graded
+//! by `drivers::dependence::fig10_claims`, as in `pipe-matrix`.
 //!
 //! `cargo run --release --bin waves-fig10 -- --tier quick`
 
 use granular_automata::cli::PipeArgs;
+use granular_automata::drivers::dependence::{checks as claim_checks, fig10_claims, G_LOW};
 use granular_automata::drivers::sweep::{
     fig7_check, rise_check, sweep_chart, Curve, PointResult, Quantity, SweepFigure, SweepPoint,
     FIG7_QUICK_ALPHA_B0,
 };
 use granular_automata::pipe::Params;
 use serde_json::json;
-
-/// The smaller gravity of panel (b).
-const G_LOW: f64 = 0.2;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = PipeArgs::parse_about(
@@ -129,7 +129,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     let (b0, bmid) = (rb[0], find(&point(0.5, 0.5)));
-    let checks = vec![
+    let mut checks = vec![
         fig7_check(
             "b0_matches_waves_fig7",
             b0,
@@ -138,6 +138,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ),
         rise_check("alpha_rises_with_b", b0, bmid, "b = 0", "b = 0.5"),
     ];
+    checks.extend(claim_checks(fig10_claims(&fig.all())));
     fig.finish(
         json!({"base": base, "b": bs, "g": gs, "b_for_v": bv, "g_low": G_LOW, "setup": fig.setup_of(base)}),
         fig.metrics(),

@@ -1,14 +1,17 @@
 //! PH95 Fig. 9: alpha and the wave speed v against the mean density rho
 //! (L = 220, W = 11, p = b = g = 0.5). Above some rho the model's own
 //! validity ends (rest particles outnumber sites, MODEL.md A4): such runs are
-//! counted per point and the limit is reported, not a crash. Blind
-//! reproduction: the published values are not used.
+//! counted per point and the limit is reported, not a crash. The published
+//! claims of PH95 III G (white noise for rho <= 0.8, alpha rising above
+//! rho = 1 to about 1.86 at rho = 2, v constant) are graded by
+//! `drivers::dependence::fig9_claims`, as in `pipe-matrix`.
 //!
 //! `cargo run --release --bin waves-fig9 -- --tier quick`
 
 use clap::Parser;
 use granular_automata::analysis::grading::Kind;
 use granular_automata::cli::PipeArgs;
+use granular_automata::drivers::dependence::{checks as claim_checks, fig9_claims};
 use granular_automata::drivers::sweep::{plot_alpha_v, points_1d, Curve, SweepFigure};
 use granular_automata::pipe::Params;
 use granular_automata::plot::{errorbar_chart_at, ErrSeries, PALETTE};
@@ -118,7 +121,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|r| r.invalid)
         .sum();
     let last = res.last().expect("at least one point");
-    let checks = vec![
+    let mut checks = vec![
         Check::exact(
             "valid_up_to_rho_1",
             Kind::Pinned,
@@ -139,6 +142,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ),
         ),
     ];
+    checks.extend(claim_checks(fig9_claims(&all)));
     fig.finish(
         json!({"base": base, "rho": rhos, "setup": fig.setup_of(base)}),
         metrics,

@@ -1,5 +1,5 @@
 //! Smoke test of the reproduction matrix (issue 4, 28 claims since issue
-//! 14): one reading, one run per set-up at the quick tier with the fast
+//! 14, 38 since issue 31): one reading, one run per set-up at the quick tier with the fast
 //! engine (validated against the reference, issue 13), every group but the
 //! open pipe's (`--groups`); the outputs exist, every claim of those groups
 //! is graded and the others are listed as not run, one run decides nothing (the one grading rule
@@ -31,7 +31,7 @@ fn matrix_grades_every_claim_and_resumes_from_its_cache() {
                 // the open pipe (PH95 Figs. 11-12: 8 claims) costs minutes
                 // of CPU in clogging runs even with one run: not in CI
                 "--groups",
-                "bands,spectra,relaxation,profile,speed",
+                "bands,spectra,relaxation,profile,speed,dependence",
                 "--out",
             ])
             .arg(&out)
@@ -47,8 +47,8 @@ fn matrix_grades_every_claim_and_resumes_from_its_cache() {
     let csv = std::fs::read_to_string(dir.join("matrix.csv")).unwrap();
     assert_eq!(
         csv.lines().count(),
-        1 + 20,
-        "a header and the 20 claims of the five groups:\n{csv}"
+        1 + 30,
+        "a header and the 30 claims of the six groups:\n{csv}"
     );
     let md = std::fs::read_to_string(dir.join("matrix.md")).unwrap();
     for id in ["flows_fig11", "v_fig11", "i_c", "clogs_054"] {
@@ -63,11 +63,11 @@ fn matrix_grades_every_claim_and_resumes_from_its_cache() {
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     let m = s["matrix"].as_array().unwrap();
-    assert_eq!(m.len(), 20);
+    assert_eq!(m.len(), 30);
     assert_eq!(m[0]["variant"], "ph94");
     assert_eq!(m[0]["claim"], "waves_1a");
     assert!(m.iter().all(|c| c["status"] == "undecided"), "{m:?}");
-    assert_eq!(s["metrics"]["claims"], 28.0);
+    assert_eq!(s["metrics"]["claims"], 38.0);
     // the default reading is not among --readings here
     assert!(s["metrics"]["default_reproduced"].is_null());
     let cached: Vec<_> = std::fs::read_dir(dir.join("variants"))

@@ -7,9 +7,11 @@
 //! Where a figure binary grades the same claim, both call the same function
 //! (`drivers::relaxation::fig3_checks`, `pipe::overlap::steep_front_check`,
 //! `width_grows_check`, `wave_speed_check`, `sweep::same_as_check`,
-//! `alpha_check`, `open_pipe::*_check`). PH95 Figs. 9-10 stay blind: no
-//! claim of them is graded here.
+//! `alpha_check`, `open_pipe::*_check`, `dependence::fig9_claims`,
+//! `fig10_claims`). PH95 III F-H (Figs. 9-10), revealed after a blind
+//! measurement, joined in session 17 (issue 31).
 
+use super::dependence::{fig10_claims, fig9_claims, Claimed, FIG10_B, FIG10_G, FIG9_RHO, G_LOW};
 use super::margins::{ALPHA_MARGIN, V_MARGIN, V_SAME_MARGIN};
 use super::open_pipe::{
     clogs_check, corr_run, corr_speed, fig11_pipe, fig11_speed_check, fig12_pipe, flows_check,
@@ -60,10 +62,11 @@ pub struct Graded {
 
 /// The claims, with what each id means: the published value, the
 /// statistic and its margin or threshold (fixed before measuring; the first
-/// 11 are those of MODEL.md A10, sessions 1-2; the rest were added in
-/// session 7, issue 14, and written down here and in EXPERIMENTS.md before
-/// any reading was graded against them).
-pub const CLAIMS: [(&str, &str); 28] = [
+/// 11 are those of MODEL.md A10, sessions 1-2; the next 17 were added in
+/// session 7, issue 14, and the last 10, PH95 III F-H, in session 17,
+/// issue 31, each written down here and in EXPERIMENTS.md before any
+/// reading was graded against them).
+pub const CLAIMS: [(&str, &str); 38] = [
     (
         "waves_1a",
         "PH94 Fig. 1a: density waves form at p = 0.1 (s_low of the late half)",
@@ -164,6 +167,46 @@ pub const CLAIMS: [(&str, &str); 28] = [
         "clogs_054",
         "PH95 Fig. 12c: the pipe clogs at I = 0.54 (220x11, p = b = g = 0.5: a run clogs or the trend test finds N(t) growing)",
     ),
+    (
+        "alpha_zero_low_rho",
+        "PH95 III G, Fig. 9a: white noise for rho <= 0.8 (alpha within 0.1 of 0 at rho = 0.6 and 0.8, each; p = b = g = 0.5, L = 220)",
+    ),
+    (
+        "alpha_rises_rho",
+        "PH95 III G, Fig. 9a: alpha rises with rho above 1 (alpha(rho) - alpha(1) > 0 at rho = 1.4 and 2.0, each)",
+    ),
+    (
+        "alpha_rho2",
+        "PH95 III G, Fig. 9a: alpha about 1.86 at rho = 2 (within 0.1)",
+    ),
+    (
+        "v_const_rho",
+        "PH95 III G, Fig. 9b: v constant in rho (v(rho) - v(1) within 0.05 at rho = 1.4 and 2.0, each)",
+    ),
+    (
+        "alpha_const_b",
+        "PH95 III H, Fig. 10a: alpha constant for any b > 0 (alpha(b) - alpha(0.5) within 0.1 at b = 0.05, 0.25, 1, each; g = 0.5)",
+    ),
+    (
+        "alpha_indep_g",
+        "PH95 III H: alpha does not change with g (alpha(g) - alpha(0.5) within 0.1 at g = 0.2 and 1, each; b = 0.5)",
+    ),
+    (
+        "v_falls_with_b",
+        "PH95 III H, Fig. 10b: v decreases as b goes from 0.25 to 1 (v(0.25) - v(1) > 0 at g = 0.5 and g = 0.2, each)",
+    ),
+    (
+        "v_falls_more_small_g",
+        "PH95 III H, Fig. 10b: v is more sensitive to b at the smaller g (the drop v(0.25) - v(1) larger at g = 0.2 than at g = 0.5)",
+    ),
+    (
+        "v_changes_with_g",
+        "PH95 III H, Fig. 10b: v changes with g, the larger g above (v(g = 0.5) - v(g = 0.2) > 0 at b = 0.25, 0.5, 1, each)",
+    ),
+    (
+        "alpha_indep_pbg",
+        "PH95 III F: alpha does not change with p, b or g (alpha_const_p's, alpha_const_b's and alpha_indep_g's checks, all)",
+    ),
 ];
 
 /// s_low above this (lower 2-SE bound) means bands, below it (upper bound)
@@ -177,8 +220,9 @@ pub const WAVE_THRESHOLD: f64 = 2.0;
 /// SE, fewer than 3 runs undecided); 4: the same rule, 28 claims instead of
 /// 11 (issue 14, session 7); 5: a censored I_c (no rate up to 1 clogs)
 /// can no longer reproduce `i_c_size` or `i_c_params` by a difference of
-/// two bounds, and leaves `one_over_f_ic` undecided (session 9).
-pub const GRADING_VERSION: u32 = 5;
+/// two bounds, and leaves `one_over_f_ic` undecided (session 9); 6: 38
+/// claims, PH95 III F-H added (issue 31, session 17).
+pub const GRADING_VERSION: u32 = 6;
 
 /// "Density waves": s_low above [`WAVE_THRESHOLD`] by the one grading rule.
 fn waves(s_low: Estimate) -> Verdict {
@@ -298,13 +342,15 @@ pub enum Group {
     Fig11,
     /// PH95 Fig. 12 (`i_c` .. `clogs_054`).
     Fig12,
+    /// PH95 III F-H, Figs. 9-10 (`alpha_zero_low_rho` .. `alpha_indep_pbg`).
+    Dependence,
 }
 
 impl Group {
     /// Runs per set-up of this group's claims at `size`.
     fn runs(self, size: MatrixSize) -> usize {
         match self {
-            Group::Bands | Group::Spectra => size.runs,
+            Group::Bands | Group::Spectra | Group::Dependence => size.runs,
             Group::Relaxation | Group::Profile | Group::Speed => size.wave_runs,
             Group::Fig11 | Group::Fig12 => size.open_runs,
         }
@@ -320,6 +366,7 @@ impl Group {
             Group::Speed => "speed",
             Group::Fig11 => "fig11",
             Group::Fig12 => "fig12",
+            Group::Dependence => "dependence",
         }
     }
 
@@ -357,7 +404,7 @@ impl Group {
     }
 
     /// Every group, in the order of [`CLAIMS`].
-    pub const ALL: [Group; 7] = [
+    pub const ALL: [Group; 8] = [
         Group::Bands,
         Group::Spectra,
         Group::Relaxation,
@@ -365,6 +412,7 @@ impl Group {
         Group::Speed,
         Group::Fig11,
         Group::Fig12,
+        Group::Dependence,
     ];
 }
 
@@ -448,6 +496,7 @@ pub fn grade_groups(
             Group::Speed => g.speed(&mut out)?,
             Group::Fig11 => g.fig11(&mut out)?,
             Group::Fig12 => g.fig12(&mut out)?,
+            Group::Dependence => g.dependence(&mut out)?,
         }
     }
     Ok(out)
@@ -943,6 +992,92 @@ impl Grader<'_> {
     }
 }
 
+/// The pipes of the [`Group::Dependence`] claims, as (label, pipe): PH94
+/// Fig. 2's set-up (the reference), then rho of [`FIG9_RHO`], b of
+/// [`FIG10_B`] (g = 0.5), g of [`FIG10_G`] (b = 0.5), Fig. 10b's ends at
+/// [`G_LOW`] and the p of `alpha_const_p` (0.05, 0.2, 0.8).
+fn dependence_pipes() -> Vec<(String, Params)> {
+    let base = Params::default();
+    let mut v = vec![("ref".to_string(), base)];
+    v.extend(FIG9_RHO.map(|rho| (format!("rho{rho}"), Params { rho, ..base })));
+    v.extend(FIG10_B.map(|b| (format!("b{b}_g0.5"), Params { b, ..base })));
+    v.extend(FIG10_G.map(|g| (format!("b0.5_g{g}"), Params { g, ..base })));
+    let (b_lo, b_hi) = super::dependence::FIG10B_RANGE;
+    v.extend([b_lo, b_hi].map(|b| {
+        (
+            format!("b{b}_g{G_LOW}"),
+            Params {
+                b,
+                g: G_LOW,
+                ..base
+            },
+        )
+    }));
+    v.extend(FIG8_CLAIM_P.map(|p| (format!("p{p}"), Params { p, ..base })));
+    v
+}
+
+/// The p of `alpha_const_p` and `v_const_p` besides the reference 0.5.
+const FIG8_CLAIM_P: [f64; 3] = [0.05, 0.2, 0.8];
+
+impl Grader<'_> {
+    /// PH95 III F-H (Figs. 9-10) through [`super::dependence`], and III F's
+    /// "alpha changes with neither p, b nor g" as all of the p, b and g
+    /// checks.
+    fn dependence(&self, out: &mut Vec<Graded>) -> Result<()> {
+        let mut results = Vec::new();
+        for (label, params) in dependence_pipes() {
+            results.push(self.spectrum_point(&label, params, &self.seeds)?);
+        }
+        let all: Vec<&PointResult> = results.iter().collect();
+        let reference = all[0];
+        // each figure's points and the reference
+        let of = |prefix: &str| -> Vec<&PointResult> {
+            let own = all.iter().filter(|r| r.point.label.starts_with(prefix));
+            std::iter::once(reference).chain(own.copied()).collect()
+        };
+        let mut claims: Vec<Claimed> = fig9_claims(&of("rho"));
+        claims.extend(fig10_claims(&of("b")));
+        let const_p: Vec<Check> = all
+            .iter()
+            .filter(|r| r.point.label.starts_with('p'))
+            .map(|r| {
+                let name = format!("alpha_{}", r.point.label);
+                let source = "PH95 III F, Fig. 8a (alpha about constant for every p > 0)";
+                same_as_check(
+                    &name,
+                    source,
+                    Quantity::Alpha,
+                    r,
+                    reference,
+                    ALPHA_MARGIN,
+                    "",
+                )
+            })
+            .collect();
+        let mut pbg = const_p;
+        for c in &claims {
+            if c.claim == "alpha_const_b" || c.claim == "alpha_indep_g" {
+                pbg.extend(c.checks.iter().cloned());
+            }
+        }
+        claims.push(Claimed {
+            claim: "alpha_indep_pbg",
+            checks: pbg,
+        });
+        for (id, _) in CLAIMS
+            .iter()
+            .skip_while(|(id, _)| *id != "alpha_zero_low_rho")
+        {
+            out.push(match claims.iter().find(|c| c.claim == *id) {
+                Some(c) => from_checks(id, &c.checks),
+                None => undecided(id, "its points were not measured".to_string()),
+            });
+        }
+        Ok(())
+    }
+}
+
 /// The checks of `checks` named `names`, graded as the claims `ids`.
 fn push_named(out: &mut Vec<Graded>, checks: &[Check], pairs: &[(&str, &str)]) {
     for (id, name) in pairs {
@@ -979,7 +1114,12 @@ pub fn grade_steps(size: MatrixSize) -> u64 {
         + w * (relax + 4 * fig4 + fig5)
         + o * (FIG11_STEPS + bisections * trend)
         + r.min(o) * 2 * spec_steps
+        + r * DEPENDENCE_POINTS * spec_steps
 }
+
+/// Spectrum points of [`Group::Dependence`] (nominal: as many runs each as
+/// the spectra).
+const DEPENDENCE_POINTS: u64 = 15;
 
 /// Site updates of one reading (nominal, as [`grade_steps`]).
 pub fn site_updates(size: MatrixSize) -> f64 {
@@ -1006,7 +1146,11 @@ pub fn site_updates(size: MatrixSize) -> f64 {
     let waves = relax as f64 * 2816.0 + fig4 * 11.0 * 1920.0 + fig5 * 5632.0;
     let open =
         FIG11_STEPS as f64 * 5000.0 + b * trend * (2420.0 * 2.0 + 1100.0 + 4840.0) + trend * 2420.0;
-    r * (band + spectra) + w * waves + o * open + r.min(o) * 2.0 * spec_steps * 2420.0
+    r * (band + spectra)
+        + w * waves
+        + o * open
+        + r.min(o) * 2.0 * spec_steps * 2420.0
+        + r * DEPENDENCE_POINTS as f64 * spec_steps * 2420.0
 }
 
 #[cfg(test)]
@@ -1028,6 +1172,7 @@ mod tests {
         assert_eq!(e(1.25, 0.04), Verdict::Undecided);
         assert_eq!(e(1.25, 0.08), Verdict::Undecided);
         assert_eq!(e(1.25, 0.005), Verdict::Reproduced);
-        assert_eq!(CLAIMS.len(), 28);
+        assert_eq!(CLAIMS.len(), 38);
+        assert_eq!(dependence_pipes().len() as u64, DEPENDENCE_POINTS);
     }
 }

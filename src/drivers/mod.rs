@@ -22,6 +22,8 @@ pub mod bands;
 pub mod claims;
 /// PH95 Fig. 12: I_c by bisection at every pipe size, N(t), the spectra's rates, checks and panels.
 pub mod critical;
+/// PH95 III F-H (Figs. 9-10): the claims on how alpha and v depend on rho, b and g.
+pub mod dependence;
 /// PH95 Fig. 11, the open pipe's correlation runs, panels and readings.
 pub mod fig11;
 /// The hopper figures of BB90 Figs. 2 and 3: metrics, checks and charts from their runs.

@@ -314,11 +314,17 @@ impl Quantity {
         }
     }
 
-    /// The axis label.
-    pub fn label(self) -> &'static str {
-        match self {
-            Quantity::Alpha => "alpha (mean over runs +- SE)",
-            Quantity::V => "v from the spectral peak, rows/step (mean +- SE)",
+    /// The axis label for points graded with `estimator`.
+    pub fn label(self, estimator: Estimator) -> &'static str {
+        match (self, estimator) {
+            (Quantity::Alpha, Estimator::PerRun) => "alpha (mean over runs +- SE)",
+            (Quantity::Alpha, Estimator::AveragedSpectrum) => {
+                "alpha (fit of the averaged spectrum +- jackknife SE)"
+            }
+            (Quantity::V, Estimator::PerRun) => "v from the spectral peak, rows/step (mean +- SE)",
+            (Quantity::V, Estimator::AveragedSpectrum) => {
+                "v from the peak of the averaged spectrum, rows/step (+- bootstrap SE)"
+            }
         }
     }
 
@@ -357,7 +363,13 @@ pub fn sweep_chart(
         })
         .collect();
     let legend = legend.unwrap_or_else(|| free_corner(&series));
-    errorbar_chart_at(path, title, xlabel, q.label(), &series, legend)
+    let estimator = curves
+        .iter()
+        .flat_map(|cv| cv.points.first())
+        .map(|r| r.estimator())
+        .next()
+        .unwrap_or(Estimator::PerRun);
+    errorbar_chart_at(path, title, xlabel, q.label(estimator), &series, legend)
 }
 
 /// Plot alpha (`<stem>_alpha.png`) and v (`<stem>_v.png`) against the swept
