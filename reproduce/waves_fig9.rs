@@ -1,10 +1,8 @@
 //! PH95 Fig. 9: alpha and the wave speed v against the mean density rho
 //! (L = 220, W = 11, p = b = g = 0.5). Above some rho the model's own
 //! validity ends (rest particles outnumber sites, MODEL.md A4): such runs are
-//! counted per point and the limit is reported, not a crash. The published
-//! claims of PH95 III G (white noise for rho <= 0.8, alpha rising above
-//! rho = 1 to about 1.86 at rho = 2, v constant) are graded by
-//! `drivers::dependence::fig9_claims`, as in `pipe-matrix`.
+//! counted per point and the limit is reported, not a crash. PH95 III G's
+//! claims: `drivers::dependence::fig9_claims`, as in `pipe-matrix`.
 //!
 //! `cargo run --release --bin waves-fig9 -- --tier quick`
 

@@ -105,24 +105,10 @@ fn matrix_grades_every_claim_and_resumes_from_its_cache() {
 /// verdicts are in EXPERIMENTS.md ("Issue 14: the extended matrix").
 #[test]
 fn a_wrong_model_gets_another_verdict_on_the_cheap_new_claims() {
-    use granular_automata::drivers::claims::{grade_groups, Group, MatrixSize, Verdict};
-    use granular_automata::pipe::Engine;
-    use granular_automata::pipe::{Params, Rules};
-    use granular_automata::run::Tier;
-    let size = MatrixSize::for_tier(Tier::Quick);
+    use granular_automata::drivers::claims::{Group, Verdict};
+    use granular_automata::pipe::Params;
     let groups = [Group::Relaxation, Group::Profile, Group::Speed];
-    let grade = |tweak: fn(Params) -> Params| {
-        grade_groups(
-            Rules::default(),
-            Engine::Fast,
-            size,
-            1,
-            &groups,
-            tweak,
-            &|_| {},
-        )
-        .unwrap()
-    };
+    let grade = |tweak: fn(Params) -> Params| quick_default(&groups, tweak);
     let default = grade(|p| p);
     let p0 = grade(|p| Params { p: 0.0, ..p });
     for (d, w) in default.iter().zip(&p0) {
@@ -155,4 +141,58 @@ fn a_wrong_model_gets_another_verdict_on_the_cheap_new_claims() {
     }
     // energy_saturates and steep_front: undecided for both models at this
     // size (16 runs); no cheap test decides them (EXPERIMENTS.md)
+}
+
+/// PH95 III F-H (Figs. 9-10, issue 31) for the default reading at the quick
+/// tier (3 runs per point, seed 1, fast engine): the verdicts recorded in
+/// EXPERIMENTS.md "Issue 31: PH95 III F-H in the matrix" (docs/
+/// matrix-dependence/quick). And a named wrong model, one whose walls ignore
+/// the swept b (b = 0.5 at every point), loses the one claim the default
+/// reproduces, v falling with b: the check can fail.
+#[test]
+fn the_figs_9_10_claims_are_graded_as_recorded_and_can_fail() {
+    use granular_automata::drivers::claims::{Graded, Group, Verdict};
+    use granular_automata::pipe::Params;
+    let grade = |tweak: fn(Params) -> Params| quick_default(&[Group::Dependence], tweak);
+    let v = |g: &[Graded], id: &str| g.iter().find(|c| c.claim == id).unwrap().verdict;
+    let default = grade(|p| p);
+    use Verdict::{NotReproduced as No, Reproduced as Yes, Undecided as Und};
+    for (id, want) in [
+        ("alpha_zero_low_rho", No),
+        ("alpha_rises_rho", No),
+        ("alpha_rho2", No),
+        ("v_const_rho", No),
+        ("alpha_const_b", Und),
+        ("alpha_indep_g", Und),
+        ("v_falls_with_b", Yes),
+        ("v_falls_more_small_g", Und),
+        ("v_changes_with_g", Und),
+        ("alpha_indep_pbg", No),
+    ] {
+        assert_eq!(v(&default, id), want, "{id}");
+    }
+    let deaf = grade(|p| Params { b: 0.5, ..p });
+    assert_ne!(v(&deaf, "v_falls_with_b"), Yes);
+}
+
+/// The default reading graded on `groups` at the quick tier (seed 1, fast
+/// engine), every pipe passed through `tweak`.
+fn quick_default(
+    groups: &[granular_automata::drivers::claims::Group],
+    tweak: fn(granular_automata::pipe::Params) -> granular_automata::pipe::Params,
+) -> Vec<granular_automata::drivers::claims::Graded> {
+    use granular_automata::drivers::claims::{grade_groups, MatrixSize};
+    use granular_automata::pipe::{Engine, Rules};
+    use granular_automata::run::Tier;
+    let size = MatrixSize::for_tier(Tier::Quick);
+    grade_groups(
+        Rules::default(),
+        Engine::Fast,
+        size,
+        1,
+        groups,
+        tweak,
+        &|_| {},
+    )
+    .unwrap()
 }
