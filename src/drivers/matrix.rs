@@ -221,8 +221,10 @@ pub fn heat_map(out: &Output, rows: &[Row], tier: Tier, runs: usize) -> Result<(
             .map_err(plot_err)
     };
     text(&title, (10, 10), 22)?;
+    // staggered on two lines, so that long claim ids do not run into each other
     for (k, (id, _)) in CLAIMS.iter().enumerate() {
-        text(id, (300 + 130 * k as i32 + 8, 60), 16)?;
+        let y = if k % 2 == 0 { 44 } else { 66 };
+        text(id, (300 + 130 * k as i32 + 8, y), 16)?;
     }
     for (r, (rules, graded)) in rows.iter().enumerate() {
         let y = 90 + 60 * r as i32;
