@@ -40,7 +40,9 @@ struct Args {
     /// Groups of claims to grade, comma-separated, or all: bands, spectra,
     /// relaxation, profile, speed, fig11, fig12 (the open pipe's two groups
     /// cost minutes of CPU per reading in clogging runs), dependence (PH95
-    /// III F-H, Figs. 9-10); the others are listed as not run.
+    /// III F-H, Figs. 9-10), headline (PH94 Fig. 2's alpha at the published
+    /// set-up: 128 runs of m = 16384 at any tier, about 5 CPU-min per
+    /// reading on the fast engine); the others are listed as not run.
     #[arg(long, default_value = "all")]
     groups: String,
 }

@@ -63,10 +63,12 @@ pub struct Graded {
 /// The claims, with what each id means: the published value, the
 /// statistic and its margin or threshold (fixed before measuring; the first
 /// 11 are those of MODEL.md A10, sessions 1-2; the next 17 were added in
-/// session 7, issue 14, and the last 10, PH95 III F-H, in session 17,
-/// issue 31, each written down here and in EXPERIMENTS.md before any
-/// reading was graded against them).
-pub const CLAIMS: [(&str, &str); 38] = [
+/// session 7, issue 14, the next 10, PH95 III F-H, in session 17, issue 31,
+/// and the last, PH94 Fig. 2's alpha at the published set-up with the
+/// acceptance tier's estimator and margin (issue 31 item 2), each written
+/// down here and in EXPERIMENTS.md before any reading was graded against
+/// them).
+pub const CLAIMS: [(&str, &str); 39] = [
     (
         "waves_1a",
         "PH94 Fig. 1a: density waves form at p = 0.1 (s_low of the late half)",
@@ -207,6 +209,10 @@ pub const CLAIMS: [(&str, &str); 38] = [
         "alpha_indep_pbg",
         "PH95 III F: alpha does not change with p, b or g (alpha_const_p's, alpha_const_b's and alpha_indep_g's checks, all)",
     ),
+    (
+        "alpha_fig2_published",
+        "PH94 Fig. 2 at the published set-up: alpha = 1.33 +- 0.02 (m = 16384, 128 runs, fit of the averaged spectrum with its jackknife SE, within the acceptance margin 0.059)",
+    ),
 ];
 
 /// s_low above this (lower 2-SE bound) means bands, below it (upper bound)
@@ -221,8 +227,9 @@ pub const WAVE_THRESHOLD: f64 = 2.0;
 /// 11 (issue 14, session 7); 5: a censored I_c (no rate up to 1 clogs)
 /// can no longer reproduce `i_c_size` or `i_c_params` by a difference of
 /// two bounds, and leaves `one_over_f_ic` undecided (session 9); 6: 38
-/// claims, PH95 III F-H added (issue 31, session 17).
-pub const GRADING_VERSION: u32 = 6;
+/// claims, PH95 III F-H added (issue 31, session 17); 7: 39, PH94 Fig. 2's
+/// alpha at the published set-up added.
+pub const GRADING_VERSION: u32 = 7;
 
 /// "Density waves": s_low above [`WAVE_THRESHOLD`] by the one grading rule.
 fn waves(s_low: Estimate) -> Verdict {
@@ -344,6 +351,9 @@ pub enum Group {
     Fig12,
     /// PH95 III F-H, Figs. 9-10 (`alpha_zero_low_rho` .. `alpha_indep_pbg`).
     Dependence,
+    /// PH94 Fig. 2's alpha at the published set-up (`alpha_fig2_published`):
+    /// the acceptance tier's runs whatever the matrix's tier and size.
+    Headline,
 }
 
 impl Group {
@@ -353,6 +363,7 @@ impl Group {
             Group::Bands | Group::Spectra | Group::Dependence => size.runs,
             Group::Relaxation | Group::Profile | Group::Speed => size.wave_runs,
             Group::Fig11 | Group::Fig12 => size.open_runs,
+            Group::Headline => headline_margin().runs,
         }
     }
 
@@ -367,6 +378,7 @@ impl Group {
             Group::Fig11 => "fig11",
             Group::Fig12 => "fig12",
             Group::Dependence => "dependence",
+            Group::Headline => "headline",
         }
     }
 
@@ -404,7 +416,7 @@ impl Group {
     }
 
     /// Every group, in the order of [`CLAIMS`].
-    pub const ALL: [Group; 8] = [
+    pub const ALL: [Group; 9] = [
         Group::Bands,
         Group::Spectra,
         Group::Relaxation,
@@ -413,6 +425,7 @@ impl Group {
         Group::Fig11,
         Group::Fig12,
         Group::Dependence,
+        Group::Headline,
     ];
 }
 
@@ -497,6 +510,7 @@ pub fn grade_groups(
             Group::Fig11 => g.fig11(&mut out)?,
             Group::Fig12 => g.fig12(&mut out)?,
             Group::Dependence => g.dependence(&mut out)?,
+            Group::Headline => g.headline(&mut out)?,
         }
     }
     Ok(out)
@@ -1065,15 +1079,60 @@ impl Grader<'_> {
             claim: "alpha_indep_pbg",
             checks: pbg,
         });
-        for (id, _) in CLAIMS
-            .iter()
-            .skip_while(|(id, _)| *id != "alpha_zero_low_rho")
-        {
-            out.push(match claims.iter().find(|c| c.claim == *id) {
+        let ids = CLAIMS.iter().map(|(id, _)| *id);
+        let ids = ids.skip_while(|id| *id != "alpha_zero_low_rho");
+        let last = ids
+            .clone()
+            .position(|id| id == "alpha_indep_pbg")
+            .unwrap_or(0);
+        for id in ids.take(last + 1) {
+            out.push(match claims.iter().find(|c| c.claim == id) {
                 Some(c) => from_checks(id, &c.checks),
                 None => undecided(id, "its points were not measured".to_string()),
             });
         }
+        Ok(())
+    }
+}
+
+/// The acceptance margin of PH94 Fig. 2's alpha ([`super::acceptance::MARGINS`]).
+fn headline_margin() -> &'static super::acceptance::Margin {
+    super::acceptance::margin("fig2", "alpha").expect("fig2's alpha has an acceptance margin")
+}
+
+impl Grader<'_> {
+    /// PH94 Fig. 2's alpha at the published set-up, as `fig2 --tier
+    /// acceptance` grades it: the fit of the averaged spectrum with its
+    /// jackknife SE over the acceptance tier's runs and margin.
+    fn headline(&self, out: &mut Vec<Graded>) -> Result<()> {
+        let m = headline_margin();
+        let params = self.pipe(Params::default());
+        let setup = tier_setup(
+            Tier::Acceptance,
+            params,
+            self.model.rules,
+            self.model.engine,
+        );
+        let runs = self.each(&self.seeds, |s| sweep_run(&setup, s, self.tick))?;
+        let point = SweepPoint {
+            label: "fig2".to_string(),
+            x: vec![],
+            params,
+        };
+        let r = reduce(&point, &setup, runs, Estimator::AveragedSpectrum)?;
+        let check = Check::published(
+            "alpha_fig2_published",
+            m.source,
+            r.alpha_estimate(),
+            m.claim(),
+            &format!(
+                "fit of the averaged spectrum over {} valid runs ({} invalid), jackknife SE; {}",
+                r.valid,
+                r.invalid,
+                m.note()
+            ),
+        );
+        out.push(from_checks("alpha_fig2_published", &[check]));
         Ok(())
     }
 }
@@ -1115,6 +1174,13 @@ pub fn grade_steps(size: MatrixSize) -> u64 {
         + o * (FIG11_STEPS + bisections * trend)
         + r.min(o) * 2 * spec_steps
         + r * DEPENDENCE_POINTS * spec_steps
+        + headline_margin().runs as u64 * headline_steps()
+}
+
+/// Steps of one run of [`Group::Headline`] (the paper's spectrum).
+fn headline_steps() -> u64 {
+    let p = Params::default();
+    tier_setup(Tier::Acceptance, p, Rules::default(), Engine::Reference).steps()
 }
 
 /// Spectrum points of [`Group::Dependence`] (nominal: as many runs each as
@@ -1151,6 +1217,7 @@ pub fn site_updates(size: MatrixSize) -> f64 {
         + o * open
         + r.min(o) * 2.0 * spec_steps * 2420.0
         + r * DEPENDENCE_POINTS as f64 * spec_steps * 2420.0
+        + headline_margin().runs as f64 * headline_steps() as f64 * 2420.0
 }
 
 #[cfg(test)]
@@ -1172,7 +1239,7 @@ mod tests {
         assert_eq!(e(1.25, 0.04), Verdict::Undecided);
         assert_eq!(e(1.25, 0.08), Verdict::Undecided);
         assert_eq!(e(1.25, 0.005), Verdict::Reproduced);
-        assert_eq!(CLAIMS.len(), 38);
+        assert_eq!(CLAIMS.len(), 39);
         assert_eq!(dependence_pipes().len() as u64, DEPENDENCE_POINTS);
     }
 }
