@@ -432,6 +432,49 @@ fn fhp_rest_turns_a_rest_particle_and_a_mover_into_a_pair() {
     );
 }
 
+/// `lane-collide` (READINGS.md P23, an extension), p = 1, g = b = 0: the
+/// down-mover of {3, 4} at (2, 4) has a down-mover below it at (2, 3), so
+/// it is deflected into the one free channel, 5, and the pair {3, 5} leaves
+/// for (1, 3) and (3, 3); the lower mover has nothing below and falls to
+/// (2, 2). Without the extension both down-movers fall. At row 0 the
+/// periodic pipe finds the mover of row L-1 below, the open pipe no site.
+#[test]
+fn lane_collide_deflects_a_down_mover_resting_on_another() {
+    let (dl, down, dr) = (1 << 3, 1 << 4, 1 << 5);
+    let p = params(5, 9, false, 1.0, 0.0, 0.0);
+    let init = [(2, 3, down), (2, 4, dl | down)];
+    for rules in [
+        "default+lane-collide",
+        "ph94+lane-collide",
+        "rest-ahead+gravity-last+lane-collide",
+    ] {
+        assert_eq!(
+            after_one_step(p, rules, &init),
+            [(1, 3, dl), (2, 2, down), (3, 3, dr)],
+            "{rules}"
+        );
+    }
+    assert_eq!(
+        after_one_step(p, "default", &init),
+        [(1, 3, dl), (2, 2, down), (2, 3, down)]
+    );
+    let p0 = Params { p: 0.0, ..p };
+    assert_eq!(
+        after_one_step(p0, "default+lane-collide", &init),
+        [(1, 3, dl), (2, 2, down), (2, 3, down)]
+    );
+    let ends = [(2, 0, dl | down), (2, 8, down)];
+    assert_eq!(
+        after_one_step(p, "default+lane-collide", &ends),
+        [(1, 8, dl), (2, 7, down), (3, 8, dr)]
+    );
+    let open = params(5, 9, true, 1.0, 0.0, 0.0);
+    assert_eq!(
+        after_one_step(open, "default+lane-collide", &ends),
+        [(2, 7, down)]
+    );
+}
+
 /// `rest-ahead` (READINGS.md P7), g = 1, p = 0: an up-left mover at (2, 4)
 /// whose next site (1, 4) holds a rest particle is turned down (2 -> 3) and
 /// lands on (1, 3) with the fallen rest particle (which still counts as
@@ -707,7 +750,7 @@ fn every_reading_is_supported() {
         GravityWording::UpToRest,
         GravityWording::RestAhead,
     ] {
-        for flags in 0..512u32 {
+        for flags in 0..1024u32 {
             let rules = Rules {
                 gravity,
                 wall_drag: flags & 1 != 0,
@@ -723,6 +766,7 @@ fn every_reading_is_supported() {
                 fhp_rest: flags & 64 != 0,
                 inject_down: flags & 128 != 0,
                 inject_late: flags & 256 != 0,
+                lane_collide: flags & 512 != 0,
             };
             if rules.gravity_first && rules.gravity_last {
                 let e = Fast.build(Params::default(), rules, SEED).err().unwrap();

@@ -60,6 +60,8 @@ pub struct Pipe<D = Xoshiro256PlusPlus> {
     gravity_moves: [Moves; 128],
     g_t: u64,
     b_t: u64,
+    /// p as a threshold (`lane-collide`, READINGS.md P23).
+    p_t: u64,
     inject_t: u64,
     extras: Vec<u32>,
     /// The site bytes at the start of the gravity sub-step (`rest-ahead`
@@ -158,6 +160,7 @@ impl Pipe {
             gravity_moves: gravity_table(rules.gravity),
             g_t: threshold(params.g),
             b_t: threshold(params.b),
+            p_t: threshold(params.p),
             inject_t: match params.boundary {
                 Boundary::Open { inject } => threshold(inject),
                 Boundary::Periodic => 0,
@@ -201,6 +204,7 @@ impl Pipe {
             gravity_moves: self.gravity_moves,
             g_t: self.g_t,
             b_t: self.b_t,
+            p_t: self.p_t,
             inject_t: self.inject_t,
             extras: self.extras,
             before: self.before,
@@ -248,6 +252,7 @@ impl<D: Draws> Pipe<D> {
     pub fn set_p(&mut self, p: f64) -> Result<()> {
         check_unit("p", p)?;
         self.params.p = p;
+        self.p_t = threshold(p);
         self.table = CollisionTable::for_rules(p, self.rules);
         self.build_kinds();
         Ok(())
@@ -382,11 +387,13 @@ impl<D: Draws> SubSteps for Pipe<D> {
                 }
             }
         }
-        if self.extras.is_empty() {
-            Ok(())
-        } else {
-            self.relocate()
+        if !self.extras.is_empty() {
+            self.relocate()?;
         }
+        if self.rules.lane_collide {
+            self.lane_collide();
+        }
+        Ok(())
     }
 
     /// Gravity (A5, \[PH94 (6)\], \[PH95 Fig. 1c\]): at every site each move of
@@ -547,6 +554,44 @@ impl<D: Draws> Pipe<D> {
             }
         }
         mask
+    }
+
+    /// `lane-collide` (READINGS.md P23, a project extension): a channel-4
+    /// mover whose neighbour below held a channel-4 mover at the start of
+    /// this sub-step is deflected to 3 or 5 with probability p, a fair coin
+    /// choosing when both are free. Below row 0 the periodic pipe wraps; the
+    /// open pipe has no site there.
+    fn lane_collide(&mut self) {
+        if self.p_t == 0 {
+            return;
+        }
+        self.before.clone_from(&self.cells);
+        let (w, l) = (self.params.width, self.params.length);
+        let periodic = self.params.boundary == Boundary::Periodic;
+        for x in 0..w {
+            for y in 0..l {
+                let i = self.idx(x, y);
+                let s = self.cells[i];
+                let below = match (y, periodic) {
+                    (0, false) => continue,
+                    (0, true) => self.idx(x, l - 1),
+                    _ => i - 1,
+                };
+                if s & bit(4) == 0 || self.before[below] & bit(4) == 0 {
+                    continue;
+                }
+                let free = (s & bit(3) == 0, s & bit(5) == 0);
+                if !(free.0 || free.1) || !self.rng.chance(self.p_t) {
+                    continue;
+                }
+                let to = match free {
+                    (true, true) if self.rng.coin() => 5,
+                    (true, _) => 3,
+                    _ => 5,
+                };
+                self.cells[i] = (s & !bit(4)) | bit(to);
+            }
+        }
     }
 
     /// `rest-slide` (A5, a project proposal): a rest particle under an

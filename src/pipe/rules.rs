@@ -128,6 +128,16 @@ pub struct Rules {
     /// place the injection in the step. (Injection after propagation is the
     /// default shifted by a whole step, the same dynamics; READINGS.md P18.)
     pub inject_late: bool,
+    /// `lane-collide` (READINGS.md P23, a project extension beyond the
+    /// text): two down-movers in contact along the pipe collide. After the
+    /// collisions and relocation (A3, A4), a channel-4 mover whose neighbour
+    /// below (along 4, MODEL.md A1) held a channel-4 mover at the start of
+    /// this sub-step is deflected to 3 or 5 with probability p (a fair coin
+    /// when both are empty, the empty one otherwise, no move when neither
+    /// is). Below row 0 of the open pipe there is no site; the periodic pipe
+    /// wraps. The pair's downward momentum drops from 2 to 3/2, a
+    /// dissipative collision, hence p; at p = 0 the rule does nothing.
+    pub lane_collide: bool,
 }
 
 impl Rules {
@@ -144,6 +154,7 @@ impl Rules {
         fhp_rest: false,
         inject_down: false,
         inject_late: false,
+        lane_collide: false,
     };
 }
 
@@ -181,7 +192,7 @@ impl Default for Rules {
 }
 
 /// Every name understood by [`Rules::from_str`], with its meaning.
-pub const RULE_NAMES: [(&str, &str); 14] = [
+pub const RULE_NAMES: [(&str, &str); 15] = [
     (
         "default",
         "the project's default reading, ph94+gravity-first+wall-move+inject-late (issues 4, 14)",
@@ -229,6 +240,10 @@ pub const RULE_NAMES: [(&str, &str); 14] = [
         "inject-late",
         "the open pipe injects just before the wall rules and propagation",
     ),
+    (
+        "lane-collide",
+        "a down-mover above another is deflected to 3 or 5 with probability p (an extension)",
+    ),
 ];
 
 impl fmt::Display for Rules {
@@ -265,6 +280,9 @@ impl fmt::Display for Rules {
         }
         if self.inject_late {
             parts.push("inject-late");
+        }
+        if self.lane_collide {
+            parts.push("lane-collide");
         }
         write!(f, "{}", parts.join("+"))
     }
@@ -325,6 +343,10 @@ impl FromStr for Rules {
                     r.inject_late = true;
                     None
                 }
+                "lane-collide" => {
+                    r.lane_collide = true;
+                    None
+                }
                 other => {
                     let known: Vec<&str> = RULE_NAMES.iter().map(|n| n.0).collect();
                     return Err(Error::new(
@@ -377,6 +399,8 @@ mod tests {
                 "+fhp-rest",
                 "+inject-down",
                 "+inject-late",
+                "+lane-collide",
+                "+fhp-rest+inject-late+lane-collide",
                 "+wall-drag+gravity-first+rest-up+wall-move+rest-slide+fhp-rest+inject-down",
                 "+wall-drag+rest-up+wall-move+rest-slide+gravity-last+fhp-rest+inject-late",
                 "+gravity-first+inject-down+inject-late",

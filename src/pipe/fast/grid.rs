@@ -158,6 +158,14 @@ impl Grid {
         }
     }
 
+    /// The lanes of word `k` of column `x` whose neighbour below (row y - 1,
+    /// along channel 4, MODEL.md A1) holds channel `c`; below row 0 the
+    /// periodic pipe wraps to row L-1 and the open pipe has no site
+    /// (`lane-collide`, READINGS.md P23).
+    pub fn from_below(&self, x: usize, c: usize, k: usize, periodic: bool) -> u64 {
+        self.up(self.column(x), c, k, periodic)
+    }
+
     /// `rest-ahead` (READINGS.md P7): the lanes of word `k` of column `x`
     /// whose neighbour along channel 2 (up-left), and along channel 6
     /// (up-right), holds a rest particle (MODEL.md A1: column x -+ 1, row

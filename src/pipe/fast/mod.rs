@@ -99,6 +99,8 @@ pub struct FastPipe {
     collision: CollisionThresholds,
     g_t: u64,
     b_t: u64,
+    /// p as a threshold (`lane-collide`, READINGS.md P23).
+    p_t: u64,
     inject_t: u64,
     /// Per column: the channels that leave the open pipe through the bottom
     /// from row 0, and through the top from row L-1 (MODEL.md A7).
@@ -135,6 +137,7 @@ impl FastPipe {
             collision: CollisionThresholds::new(&CollisionTable::new(params.p)),
             g_t: threshold(params.g),
             b_t: threshold(params.b),
+            p_t: threshold(params.p),
             inject_t: match params.boundary {
                 Boundary::Open { inject } => threshold(inject),
                 Boundary::Periodic => 0,
@@ -211,6 +214,7 @@ impl FastPipe {
     pub fn set_p(&mut self, p: f64) -> Result<()> {
         check_unit("p", p)?;
         self.params.p = p;
+        self.p_t = threshold(p);
         self.collision = CollisionThresholds::new(&CollisionTable::new(p));
         Ok(())
     }
@@ -320,11 +324,13 @@ impl SubSteps for FastPipe {
                 push_extras(&mut self.extras, &out, |j| (y0 + j) * w + x);
             }
         }
-        if self.extras.is_empty() {
-            Ok(())
-        } else {
-            self.relocate()
+        if !self.extras.is_empty() {
+            self.relocate()?;
         }
+        if self.rules.lane_collide {
+            self.lane_collide();
+        }
+        Ok(())
     }
 
     /// Gravity step (MODEL.md A5): the moves possible before gravity, each
@@ -458,6 +464,34 @@ impl FastPipe {
         for x in 0..self.params.width {
             for k in 0..words {
                 self.ahead.push(self.grid.rest_ahead(x, k, periodic));
+            }
+        }
+    }
+
+    /// `lane-collide` (READINGS.md P23, a project extension): a channel-4
+    /// mover whose neighbour below held a channel-4 mover at the start of
+    /// this sub-step is deflected to 3 or 5 with probability p (a fair coin
+    /// when both are free), as the reference does.
+    fn lane_collide(&mut self) {
+        if self.p_t == 0 {
+            return;
+        }
+        let periodic = self.params.boundary == Boundary::Periodic;
+        let words = self.grid.words();
+        for x in 0..self.params.width {
+            let below: Vec<u64> = (0..words)
+                .map(|k| self.grid.from_below(x, 4, k, periodic))
+                .collect();
+            for (k, &under) in below.iter().enumerate() {
+                let s = &mut self.grid.column_mut(x)[k];
+                let (free3, free5) = (!s[3], !s[5]);
+                let hit = lanes::bernoulli(&mut self.rng, self.p_t, s[4] & under & (free3 | free5));
+                let coin = lanes::coins(&mut self.rng, hit & free3 & free5);
+                let to5 = hit & free5 & (!free3 | coin);
+                let to3 = hit & !to5;
+                s[4] &= !hit;
+                s[3] |= to3;
+                s[5] |= to5;
             }
         }
     }
