@@ -228,6 +228,41 @@ fn the_external_example_passes_through_the_contract() {
     );
 }
 
+/// Level 1 probes lone sites, so it cannot see a rule of two sites:
+/// `lane-collide` (READINGS.md P23) acts only on a down-mover resting on
+/// another. A candidate deaf to it (the external example behind a `sed`
+/// that deletes the name from every plan) passes level 1 and fails level 2.
+#[test]
+fn a_candidate_deaf_to_lane_collide_fails_level_2_only() {
+    let dir = out("deaf-lane-collide");
+    let script = dir.join("deaf.sh");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        &script,
+        format!(
+            "#!/bin/bash\nsed s/+lane-collide//g | {} \"$@\"\n",
+            env!("CARGO_BIN_EXE_validate-example")
+        ),
+    )
+    .unwrap();
+    let cmd = format!("cmd:bash {}", script.display());
+    let args = quick_args(
+        &cmd,
+        "all",
+        &["--model", "pipe", "--rules", "default+lane-collide"],
+    );
+    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
+        .args(&args)
+        .arg("--out")
+        .arg(&dir)
+        .status()
+        .unwrap();
+    assert_eq!(status.code(), Some(1));
+    let r = report(&dir);
+    assert_eq!(r["level1"]["pass"], true, "{r}");
+    assert_eq!(r["level2"]["pass"], false, "{r}");
+}
+
 #[test]
 fn exact_table_matches_hand_calculation() {
     let base = Params::default();

@@ -108,10 +108,15 @@ pub fn find<'a>(graded: &'a [Graded], id: &str) -> Option<&'a Graded> {
 }
 
 /// The measured value of a cell: `m +- e`, `n/5 agree` for the density
-/// window, `no value` when nothing was measured (never `NaN`).
+/// window, `n runs invalid` where every run at a point the paper measured
+/// left the model's validity (the statistic is then that count,
+/// `drivers::dependence`), `no value` when nothing was measured (never
+/// `NaN`).
 pub fn value(g: &Graded) -> String {
     if !g.measured.is_finite() {
         "no value".to_string()
+    } else if g.detail.contains("left the model's validity (all") {
+        format!("{:.0} runs invalid", g.measured)
     } else if g.claim == "rho_window" {
         format!("{:.0}/5 agree", g.measured)
     } else if !g.error.is_finite() {
@@ -205,15 +210,18 @@ pub fn write_tables(
 /// with the measured value and its error in each cell.
 pub fn heat_map(out: &Output, rows: &[Row], tier: Tier, runs: usize) -> Result<()> {
     register_fonts();
+    // the reading names, at about 8 px per character, set the left column
+    let names = rows.iter().map(|(r, _)| r.to_string().len()).max();
+    let left = 300.max(20 + 8 * names.unwrap_or(0) as i32);
     let (w, h) = (
-        300 + 130 * CLAIMS.len() as u32,
+        left as u32 + 130 * CLAIMS.len() as u32,
         140 + 60 * rows.len() as u32,
     );
     let path = out.path("pipe-matrix.png");
     let root = BitMapBackend::new(&path, (w, h)).into_drawing_area();
     root.fill(&WHITE).map_err(plot_err)?;
     let title = format!(
-        "PH94/PH95 reproduction matrix: readings x published claims ({} tier, {runs} runs)",
+        "PH94/PH95 reproduction matrix: readings x published claims ({} tier, {runs} runs per spectrum set-up; every set-up's runs in matrix.md)",
         tier.name()
     );
     let text = |s: &str, at: (i32, i32), size: u32| {
@@ -224,13 +232,13 @@ pub fn heat_map(out: &Output, rows: &[Row], tier: Tier, runs: usize) -> Result<(
     // staggered on two lines, so that long claim ids do not run into each other
     for (k, (id, _)) in CLAIMS.iter().enumerate() {
         let y = if k % 2 == 0 { 44 } else { 66 };
-        text(id, (300 + 130 * k as i32 + 8, y), 16)?;
+        text(id, (left + 130 * k as i32 + 8, y), 16)?;
     }
     for (r, (rules, graded)) in rows.iter().enumerate() {
         let y = 90 + 60 * r as i32;
         text(&rules.to_string(), (10, y + 20), 16)?;
         for (k, (id, _)) in CLAIMS.iter().enumerate() {
-            let x = 300 + 130 * k as i32;
+            let x = left + 130 * k as i32;
             let Some(g) = find(graded, id) else {
                 text("not run", (x + 6, y + 6), 16)?;
                 continue;
