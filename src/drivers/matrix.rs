@@ -214,7 +214,7 @@ pub fn heat_map(out: &Output, rows: &[Row], tier: Tier, runs: usize) -> Result<(
     let names = rows.iter().map(|(r, _)| r.to_string().len()).max();
     let left = 300.max(20 + 8 * names.unwrap_or(0) as i32);
     let (w, h) = (
-        left as u32 + 130 * CLAIMS.len() as u32,
+        left as u32 + 130 * CLAIMS.len() as u32 + 60,
         140 + 60 * rows.len() as u32,
     );
     let path = out.path("pipe-matrix.png");
