@@ -475,6 +475,29 @@ fn lane_collide_deflects_a_down_mover_resting_on_another() {
     );
 }
 
+/// What `lane-collide` does to the gas (EXPERIMENTS.md "Extensions beyond
+/// the text", session 18), at PH94 Fig. 2's set-up (L = 220, W = 11,
+/// p = g = b = 0.5, rho = 1) after 20000 steps: the default puts more than 95 % of
+/// the movers in channel 4 (one lane); with the extension fewer than half
+/// are there. A fast engine that ignored the rule would fail this.
+#[test]
+fn lane_collide_breaks_the_lane_of_down_movers() {
+    let p = Params {
+        length: 220,
+        width: 11,
+        ..Params::default()
+    };
+    let share = |rules: &str| {
+        let mut e = FastPipe::new(p, rules.parse().unwrap(), SEED).unwrap();
+        e.run(20_000).unwrap();
+        let c = e.channel_counts();
+        c[4] as f64 / c[1..].iter().sum::<u64>() as f64
+    };
+    let (lane, broken) = (share("default"), share("default+lane-collide"));
+    assert!(lane > 0.95, "default: {lane}");
+    assert!(broken < 0.5, "lane-collide: {broken}");
+}
+
 /// `rest-ahead` (READINGS.md P7), g = 1, p = 0: an up-left mover at (2, 4)
 /// whose next site (1, 4) holds a rest particle is turned down (2 -> 3) and
 /// lands on (1, 3) with the fallen rest particle (which still counts as
