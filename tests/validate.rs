@@ -9,11 +9,12 @@
 
 mod common;
 
+use granular_automata::pipe::engine::EngineBuilder;
 use granular_automata::pipe::{Params, Rules};
 use granular_automata::validate::candidate::Builtin;
 use granular_automata::validate::conformance::{exact, probes};
-use granular_automata::validate::mutants::MUTANTS;
-use granular_automata::validate::{validate, Level, Model, Plan};
+use granular_automata::validate::mutants::{Mutant, Scaled, MUTANTS};
+use granular_automata::validate::{validate, Level, Model, Plan, Report};
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -165,6 +166,35 @@ fn every_mutant_fails_level_1() {
         let l = r.level1.unwrap();
         assert!(!r.pass, "mutant {name} passed level 1");
         assert!(!l.differences.is_empty(), "{name}");
+    }
+}
+
+/// The parametric mutants (issue 33 item 1): `mutant:p*1.1` is the
+/// catalogue's `p+10%` (the same differences at level 1), a gross R1 split
+/// (75/25) fails level 1, scaling by 1 changes nothing, and a bad knob or
+/// factor is a typed error naming the allowed values.
+#[test]
+fn scaled_mutants_match_the_catalogue_and_fail_when_gross() {
+    fn level1<B: EngineBuilder>(m: B) -> Report {
+        let plan = Plan::quick(Level::One, Model::Pipe, 3);
+        validate(&Builtin(m), &plan, &|| {}).unwrap()
+    }
+    let scaled = |s: &str| s.parse::<Scaled>().unwrap();
+    let p10 = level1(scaled("p*1.1"));
+    let catalogue = level1("p+10%".parse::<Mutant>().unwrap());
+    let diffs = |r: &Report| r.level1.as_ref().unwrap().differences.len();
+    assert!(!p10.pass);
+    assert_eq!(diffs(&p10), diffs(&catalogue));
+    assert!(!level1(scaled("r1-split*1.5")).pass);
+    assert!(level1(scaled("g*1")).pass);
+    for (bad, says) in [
+        ("q*2", "r1-split"),
+        ("p*0", "(0, 10]"),
+        ("p*x", "(0, 10]"),
+        ("p", "KNOB*FACTOR"),
+    ] {
+        let e = bad.parse::<Scaled>().unwrap_err();
+        assert!(e.message.contains(says), "{bad}: {}", e.message);
     }
 }
 

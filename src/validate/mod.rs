@@ -68,7 +68,8 @@ impl Model {
 }
 
 /// The candidate named by `spec`: `reference`, `fast` (the bit-sliced
-/// engine, `crate::pipe::fast`), `mutant:NAME` or `cmd:COMMAND`; an
+/// engine, `crate::pipe::fast`), `mutant:NAME`, `mutant:KNOB*FACTOR` (a
+/// rule probability scaled, [`mutants::Scaled`]) or `cmd:COMMAND`; an
 /// external command's runs stop after `time_limit` each (`None`: the
 /// default of its plan, [`candidate::default_time_limit`]).
 pub fn candidate_from(
@@ -82,6 +83,10 @@ pub fn candidate_from(
         return Ok(Box::new(Builtin(crate::pipe::fast::Fast)));
     }
     if let Some(name) = spec.strip_prefix("mutant:") {
+        if name.contains('*') {
+            let m: mutants::Scaled = name.parse()?;
+            return Ok(Box::new(Builtin(m)));
+        }
         let m: mutants::Mutant = name.parse()?;
         return Ok(Box::new(Builtin(m)));
     }
@@ -97,7 +102,7 @@ pub fn candidate_from(
     Err(Error::new(
         ErrorKind::InvalidParameter,
         format!(
-            "--candidate {spec} is not known; use reference, fast, mutant:NAME (one of: {}) or cmd:'COMMAND'",
+            "--candidate {spec} is not known; use reference, fast, mutant:NAME (one of: {}), mutant:KNOB*FACTOR (e.g. mutant:p*1.03) or cmd:'COMMAND'",
             mutants::MUTANTS
                 .iter()
                 .map(|(n, _)| *n)

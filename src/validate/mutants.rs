@@ -6,10 +6,10 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::hopper::energy::{aligned, f_shear, motion, pair_index, EnergyTable, STATES};
 use crate::hopper::engine::{self as hopper_engine, HopperBuilder, HopperEngine};
 use crate::hopper::{Hopper, HopperParams};
-use crate::pipe::collision::{CollisionTable, Rule};
+use crate::pipe::collision::{threshold, CollisionTable, Rule};
 use crate::pipe::draws::Draws;
 use crate::pipe::engine::{EngineBuilder, PipeEngine};
-use crate::pipe::{GravityWording, Params, Pipe, Rules};
+use crate::pipe::{Boundary, GravityWording, Params, Pipe, Rules};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
@@ -211,5 +211,145 @@ impl HopperBuilder for Mutant {
             }
             _ => hopper_engine::Reference.build(params, seed),
         }
+    }
+}
+
+/// Which rule probability a [`Scaled`] mutant changes (issue 33 item 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Knob {
+    /// p in R2 and R3 (MODEL.md A3).
+    P,
+    /// p in R2 only.
+    PR2,
+    /// p in R3 only.
+    PR3,
+    /// The probability 1/2 of R1's first rotation (the split of R1).
+    R1Split,
+    /// g (MODEL.md A5).
+    G,
+    /// b, the wall's bounce-back probability (MODEL.md A6): the wall reflection.
+    B,
+    /// The open pipe's injection rate I (MODEL.md A7).
+    Inject,
+}
+
+/// Every knob with its name, as `--candidate mutant:KNOB*FACTOR` takes it.
+pub const KNOBS: [(&str, Knob); 7] = [
+    ("p", Knob::P),
+    ("p-r2", Knob::PR2),
+    ("p-r3", Knob::PR3),
+    ("r1-split", Knob::R1Split),
+    ("g", Knob::G),
+    ("b", Knob::B),
+    ("inject", Knob::Inject),
+];
+
+/// A parametric mutant (issue 33 item 1): the reference engine with one
+/// rule probability q used as min(1, factor q), e.g. `mutant:p*1.03` for
+/// p 3 % high or `mutant:r1-split*1.04` for R1 splitting 52/48.
+/// `mutant:p*1.1` is the catalogue's `p+10%`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scaled {
+    /// The probability changed.
+    pub knob: Knob,
+    /// Its factor, in (0, 10].
+    pub factor: f64,
+}
+
+impl std::str::FromStr for Scaled {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        let knobs = || KNOBS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ");
+        let bad = |why: String| Error::new(ErrorKind::InvalidParameter, why);
+        let (name, f) = s.split_once('*').ok_or_else(|| {
+            bad(format!(
+                "mutant `{s}` is not KNOB*FACTOR; the knobs are: {}",
+                knobs()
+            ))
+        })?;
+        let knob = KNOBS
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|&(_, k)| k)
+            .ok_or_else(|| {
+                bad(format!(
+                    "unknown knob `{name}` in `{s}`; the knobs are: {}",
+                    knobs()
+                ))
+            })?;
+        let factor: f64 = f
+            .parse()
+            .ok()
+            .filter(|x: &f64| *x > 0.0 && *x <= 10.0)
+            .ok_or_else(|| bad(format!("factor `{f}` in `{s}` must be a number in (0, 10]")))?;
+        Ok(Scaled { knob, factor })
+    }
+}
+
+impl Scaled {
+    fn scale(self, q: f64) -> f64 {
+        (q * self.factor).min(1.0)
+    }
+
+    /// The knob's name in [`KNOBS`].
+    pub fn knob_name(self) -> &'static str {
+        KNOBS
+            .iter()
+            .find(|(_, k)| *k == self.knob)
+            .map(|(n, _)| *n)
+            .expect("every knob is listed")
+    }
+}
+
+impl EngineBuilder for Scaled {
+    fn name(&self) -> String {
+        format!("mutant:{}*{}", self.knob_name(), self.factor)
+    }
+
+    fn hopper(&self) -> Option<&dyn HopperBuilder> {
+        Some(&hopper_engine::Reference)
+    }
+
+    fn build(&self, params: Params, rules: Rules, seed: u64) -> Result<Box<dyn PipeEngine>> {
+        let mut params = params;
+        match self.knob {
+            Knob::P => params.p = self.scale(params.p),
+            Knob::G => params.g = self.scale(params.g),
+            Knob::B => params.b = self.scale(params.b),
+            Knob::Inject => {
+                if let Boundary::Open { inject } = params.boundary {
+                    params.boundary = Boundary::Open {
+                        inject: self.scale(inject),
+                    };
+                }
+            }
+            Knob::PR2 | Knob::PR3 | Knob::R1Split => {}
+        }
+        let mut pipe = Pipe::new(params, rules, seed)?;
+        let (rule, p) = match self.knob {
+            Knob::PR2 => (Rule::R2, self.scale(params.p)),
+            Knob::PR3 => (Rule::R3, self.scale(params.p)),
+            Knob::R1Split => (Rule::R1, params.p),
+            _ => return Ok(Box::new(pipe)),
+        };
+        // the rule's entries from the table of the scaled p (R2, R3), or
+        // R1's two rotations with probabilities f/2 and 1 - f/2
+        let scaled = CollisionTable::for_rules(p, rules);
+        let mut table = CollisionTable::for_rules(params.p, rules);
+        for (e, new) in table.entries.iter_mut().zip(scaled.entries) {
+            if e.rule != rule {
+                continue;
+            }
+            if rule == Rule::R1 {
+                let first = self.scale(0.5);
+                e.outcomes[0].prob = first;
+                e.outcomes[1].prob = 1.0 - first;
+                e.cumulative = vec![threshold(first), 1 << 32];
+            } else {
+                *e = new;
+            }
+        }
+        pipe.replace_collision_table(table);
+        Ok(Box::new(pipe))
     }
 }
