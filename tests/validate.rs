@@ -261,9 +261,12 @@ fn the_external_example_passes_through_the_contract() {
 /// Level 1 probes lone sites, so it cannot see a rule of two sites:
 /// `lane-collide` (READINGS.md P23) acts only on a down-mover resting on
 /// another. A candidate deaf to it (the external example behind a `sed`
-/// that deletes the name from every plan) passes level 1 and fails level 2.
+/// that deletes the name from every plan) passes every lone-site probe of
+/// level 1; it fails level 1's memory probe with two particles one above
+/// the other (issue 33 item 4; before that probe it passed level 1), and
+/// level 2.
 #[test]
-fn a_candidate_deaf_to_lane_collide_fails_level_2_only() {
+fn a_candidate_deaf_to_lane_collide_fails_the_memory_probe_and_level_2() {
     let dir = out("deaf-lane-collide");
     let script = dir.join("deaf.sh");
     std::fs::create_dir_all(&dir).unwrap();
@@ -289,7 +292,9 @@ fn a_candidate_deaf_to_lane_collide_fails_level_2_only() {
         .unwrap();
     assert_eq!(status.code(), Some(1));
     let r = report(&dir);
-    assert_eq!(r["level1"]["pass"], true, "{r}");
+    assert_eq!(r["level1"]["pass"], false, "{r}");
+    let d = r["level1"]["differences"].as_array().unwrap();
+    assert!(d.iter().all(|d| d["probe"] == "memory-along"), "{r}");
     assert_eq!(r["level2"]["pass"], false, "{r}");
 }
 
@@ -377,4 +382,28 @@ fn a_stalled_candidate_is_stopped_and_named() {
     // a limit outside its range is a usage error naming it
     let args = ["--candidate", "cmd:true", "--run-timeout", "0"];
     common::fails_with(env!("CARGO_BIN_EXE_validate"), args, "--run-timeout");
+}
+
+/// The correlated-draw mutants (issue 33 item 4) have every one-site
+/// distribution exact: the lone-site probes of level 1 see nothing, and
+/// level 1's memory probes (VALIDATION.md) catch both.
+#[test]
+fn correlated_draws_pass_the_lone_sites_and_fail_the_memory_probes() {
+    for name in ["draws-repeat-each-step", "lanes-shared-by-pairs"] {
+        let m: Mutant = name.parse().unwrap();
+        let r = validate(
+            &Builtin(m),
+            &Plan::quick(Level::One, Model::Pipe, 3),
+            &|| {},
+        )
+        .unwrap();
+        let l = r.level1.unwrap();
+        assert!(!l.pass, "{name} passed level 1");
+        let probes: std::collections::BTreeSet<_> =
+            l.differences.iter().map(|d| d.probe.as_str()).collect();
+        assert!(
+            probes.iter().all(|p| p.starts_with("memory-")),
+            "{name}: {probes:?}"
+        );
+    }
 }

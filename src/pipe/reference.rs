@@ -221,6 +221,13 @@ impl<D: Draws> Pipe<D> {
         self.rng
     }
 
+    /// The random choices of this run: only for the correlated-draw mutants
+    /// of `validate` (`crate::validate::mutants`), which reset them.
+    #[doc(hidden)]
+    pub fn draws_mut(&mut self) -> &mut D {
+        &mut self.rng
+    }
+
     fn build_kinds(&mut self) {
         for s in 0..128u8 {
             let e: &Entry = &self.table.entries[s as usize];

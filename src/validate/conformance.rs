@@ -216,6 +216,9 @@ pub struct Table {
     /// Largest probability mass, over all probes and states, of the
     /// enumeration paths cut at `CUTOFF` (a bound on each entry's error).
     pub max_truncated_mass: f64,
+    /// The memory probes ([`super::memory`]): per probe, its start and the
+    /// exact distribution of its trajectory.
+    pub memory: Vec<super::memory::TableMemory>,
 }
 
 /// One probe of the [`Table`].
@@ -259,6 +262,7 @@ pub fn table(base: &Params, rules: Rules) -> Result<Table> {
         rules: rules.to_string(),
         probes: out,
         max_truncated_mass,
+        memory: super::memory::table(base, rules)?,
     })
 }
 
@@ -426,7 +430,18 @@ pub fn level1(
         tick();
         Ok((pi, s, ex, obs))
     });
-    let results: Vec<_> = results.into_iter().collect::<Result<_>>()?;
+    let mut results: Vec<_> = results.into_iter().collect::<Result<_>>()?;
+    // the memory probes (two sites over several steps), as two more jobs
+    let mut names: Vec<&str> = probes.iter().map(|p| p.name).collect();
+    for pair in super::memory::Pair::ALL {
+        let memory_seed = derive_seed(seed, (jobs.len() + names.len()) as u64);
+        let ex = super::memory::exact(pair, base, r)?;
+        let n = trials / super::memory::TRIALS_DIVISOR;
+        let obs = super::memory::measure(pair, cand, base, rules, n, memory_seed)?;
+        tick();
+        results.push((names.len(), crate::pipe::collision::REST_BIT, ex, obs));
+        names.push(pair.name());
+    }
     let tests: usize = results
         .iter()
         .map(|(_, _, ex, _)| ex.values().filter(|&&q| q < 1.0).count())
@@ -434,15 +449,16 @@ pub fn level1(
     let threshold = alpha / tests.max(1) as f64;
     let mut differences = Vec::new();
     for (pi, s, ex, obs) in &results {
-        let n = trials as u64;
+        // trials of this probe: `trials`, or fewer for a memory probe
+        let n: u64 = obs.values().sum();
         let mut diff = |outcome: &str, q: f64, k: u64, pv: f64| {
             differences.push(Difference {
-                probe: probes[*pi].name.to_string(),
+                probe: names[*pi].to_string(),
                 state: *s,
                 outcome: outcome.to_string(),
                 expected: q,
                 observed: k as f64 / n as f64,
-                trials,
+                trials: n as usize,
                 p_value: pv,
             })
         };

@@ -15,6 +15,7 @@
 pub mod candidate;
 pub mod conformance;
 pub mod hopper;
+pub mod memory;
 pub mod mutants;
 pub mod repeat;
 pub mod scenes;
@@ -359,7 +360,7 @@ pub fn jobs(levels: Level, model: Model, tier: Tier, size: Size) -> u64 {
     let mut n = 0;
     if model.pipe() {
         if one {
-            n += conformance::probes().len() as u64 * 128;
+            n += conformance::probes().len() as u64 * 128 + 2; // + the memory probes
         }
         if two {
             n += 2 * size.runs as u64 * scenes::scenes(tier).len() as u64;

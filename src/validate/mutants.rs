@@ -9,6 +9,7 @@ use crate::hopper::{Hopper, HopperParams};
 use crate::pipe::collision::{threshold, CollisionTable, Rule};
 use crate::pipe::draws::Draws;
 use crate::pipe::engine::{EngineBuilder, PipeEngine};
+use crate::pipe::fast::FastPipe;
 use crate::pipe::{Boundary, GravityWording, Params, Pipe, Rules};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -35,6 +36,17 @@ pub enum Mutant {
     /// The random stream has lost its top bit (a signed/unsigned slip): every
     /// probability q is used as min(1, 2q).
     BiasedStream,
+    /// Correlated draws, exact marginals (issue 33 item 4): the random stream
+    /// starts afresh from the same state at every step, as a counter-based
+    /// generator keyed by site but not by time would. Every single draw is
+    /// uniform; the draws of step t + 1 repeat those of step t.
+    DrawsRepeatEachStep,
+    /// Correlated draws, exact marginals (issue 33 item 4): the fast
+    /// (bit-sliced) engine with two neighbouring lanes sharing their random
+    /// bits, as a lane mask built one bit too wide would: rows 2j and 2j + 1
+    /// of a column make the same random choices. Every one-site
+    /// distribution is exact.
+    LanesSharedByPairs,
     /// Hopper: the sign of beta flipped, F_orient^(-beta) (MODEL.md B4): an
     /// aligned pair costs 1/S instead of S. The pipe engine is the reference.
     HopperBetaSign,
@@ -44,7 +56,7 @@ pub enum Mutant {
 }
 
 /// Every mutant with its name, as `--candidate mutant:NAME` takes it.
-pub const MUTANTS: [(&str, Mutant); 10] = [
+pub const MUTANTS: [(&str, Mutant); 12] = [
     ("p+10%", Mutant::PPlus10),
     ("g+10%", Mutant::GPlus10),
     ("b+10%", Mutant::BPlus10),
@@ -53,6 +65,8 @@ pub const MUTANTS: [(&str, Mutant); 10] = [
     ("r1-same-side", Mutant::R1SameSide),
     ("extras-dropped", Mutant::ExtrasDropped),
     ("biased-stream", Mutant::BiasedStream),
+    ("draws-repeat-each-step", Mutant::DrawsRepeatEachStep),
+    ("lanes-shared-by-pairs", Mutant::LanesSharedByPairs),
     ("hopper-beta-sign", Mutant::HopperBetaSign),
     ("hopper-spacing-off-by-one", Mutant::HopperSpacingOffByOne),
 ];
@@ -117,6 +131,69 @@ impl Draws for TopBitLost {
     }
 }
 
+/// The generator of [`Mutant::LanesSharedByPairs`]: in every 64-bit word,
+/// bit 2j + 1 is a copy of bit 2j, so lanes 2j and 2j + 1 of the fast
+/// engine (rows 2j and 2j + 1 of a column) get the same random bits. Each
+/// bit is still fair, and one lane's words are still independent.
+#[derive(Debug, Clone)]
+pub struct PairedLanes(Xoshiro256PlusPlus);
+
+impl rand::TryRng for PairedLanes {
+    type Error = std::convert::Infallible;
+    fn try_next_u32(&mut self) -> std::result::Result<u32, Self::Error> {
+        Ok(self.0.next_u32())
+    }
+    fn try_next_u64(&mut self) -> std::result::Result<u64, Self::Error> {
+        let even = self.0.next_u64() & 0x5555_5555_5555_5555;
+        Ok(even | even << 1)
+    }
+    fn try_fill_bytes(&mut self, dst: &mut [u8]) -> std::result::Result<(), Self::Error> {
+        self.0.fill_bytes(dst);
+        Ok(())
+    }
+}
+
+/// The engine of [`Mutant::DrawsRepeatEachStep`]: the reference whose
+/// random stream is reset to the same state before every step.
+struct RepeatEachStep {
+    pipe: Pipe,
+    seed: u64,
+}
+
+impl PipeEngine for RepeatEachStep {
+    fn params(&self) -> &Params {
+        self.pipe.params()
+    }
+    fn step(&mut self) -> Result<()> {
+        *self.pipe.draws_mut() = Xoshiro256PlusPlus::seed_from_u64(self.seed);
+        self.pipe.step()
+    }
+    fn time(&self) -> u64 {
+        self.pipe.time()
+    }
+    fn site(&self, x: usize, y: usize) -> u8 {
+        self.pipe.site(x, y)
+    }
+    fn set_site(&mut self, x: usize, y: usize, state: u8) {
+        self.pipe.set_site(x, y, state)
+    }
+    fn fill_bin_counts(&self, out: &mut [f64]) {
+        self.pipe.fill_bin_counts(out)
+    }
+    fn channel_counts(&self) -> [u64; 7] {
+        self.pipe.channel_counts()
+    }
+    fn flux(&self) -> crate::pipe::Flux {
+        self.pipe.flux()
+    }
+    fn rules(&self) -> Rules {
+        self.pipe.rules()
+    }
+    fn set_p(&mut self, p: f64) -> Result<()> {
+        self.pipe.set_p(p)
+    }
+}
+
 fn plus10(q: f64) -> f64 {
     (1.1 * q).min(1.0)
 }
@@ -166,6 +243,15 @@ impl EngineBuilder for Mutant {
                 let draws = TopBitLost(Xoshiro256PlusPlus::seed_from_u64(seed ^ 0xB1A5));
                 Ok(Box::new(pipe.with_draws(draws)))
             }
+            Mutant::LanesSharedByPairs => {
+                let fast = FastPipe::new(params, rules, seed)?;
+                let rng = PairedLanes(Xoshiro256PlusPlus::seed_from_u64(seed ^ 0x9A1B));
+                Ok(Box::new(fast.with_rng(rng)))
+            }
+            Mutant::DrawsRepeatEachStep => Ok(Box::new(RepeatEachStep {
+                pipe,
+                seed: seed ^ 0x5EED,
+            })),
             _ => Ok(Box::new(pipe)),
         }
     }

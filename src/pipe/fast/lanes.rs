@@ -14,7 +14,6 @@
 //! word, a word of lanes that need no decision costs nothing.
 
 use rand::Rng;
-use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// 2^32: a threshold this large is always met.
 const ALWAYS: u64 = 1 << 32;
@@ -25,11 +24,7 @@ const ALWAYS: u64 = 1 << 32;
 /// `t[k-1] <= U < t[k]` take outcome k with probability
 /// `(t[k] - t[k-1]) / 2^32`, as `Entry::cumulative` of the reference; with
 /// disjoint needs, one draw serves lanes of different thresholds.
-pub fn below_each<const N: usize>(
-    rng: &mut Xoshiro256PlusPlus,
-    t: [u64; N],
-    need: [u64; N],
-) -> [u64; N] {
+pub fn below_each<const N: usize>(rng: &mut impl Rng, t: [u64; N], need: [u64; N]) -> [u64; N] {
     let mut below = [0u64; N];
     // lanes whose U equals t[k] in the bits drawn so far
     let mut open = [0u64; N];
@@ -67,7 +62,7 @@ pub fn below_each<const N: usize>(
 /// The lanes of `need` for which an event of probability `t / 2^32` happens
 /// ([`below_each`] with one threshold, written out for speed).
 #[inline]
-pub fn bernoulli(rng: &mut Xoshiro256PlusPlus, t: u64, need: u64) -> u64 {
+pub fn bernoulli(rng: &mut impl Rng, t: u64, need: u64) -> u64 {
     if need == 0 || t == 0 {
         return 0;
     }
@@ -97,7 +92,7 @@ pub fn bernoulli(rng: &mut Xoshiro256PlusPlus, t: u64, need: u64) -> u64 {
 /// and of `b`: one draw for both when they have no lane in common (each
 /// lane still gets its own bits), else one each.
 #[inline]
-pub fn bernoulli_pair(rng: &mut Xoshiro256PlusPlus, t: u64, a: u64, b: u64) -> (u64, u64) {
+pub fn bernoulli_pair(rng: &mut impl Rng, t: u64, a: u64, b: u64) -> (u64, u64) {
     if a & b == 0 {
         let hit = bernoulli(rng, t, a | b);
         (hit & a, hit & b)
@@ -108,13 +103,13 @@ pub fn bernoulli_pair(rng: &mut Xoshiro256PlusPlus, t: u64, a: u64, b: u64) -> (
 
 /// A fair coin for every lane of `need` (one word).
 #[inline]
-pub fn coins(rng: &mut Xoshiro256PlusPlus, need: u64) -> u64 {
+pub fn coins(rng: &mut impl Rng, need: u64) -> u64 {
     bernoulli(rng, 1 << 31, need)
 }
 
 /// A uniform integer in `0..n` (n >= 1), exactly: Lemire's multiply with
 /// rejection of the `2^32 mod n` low products that would bias it.
-pub fn below(rng: &mut Xoshiro256PlusPlus, n: u32) -> u32 {
+pub fn below(rng: &mut impl Rng, n: u32) -> u32 {
     let first = rng.next_u32();
     below_from(rng, first, n)
 }
@@ -122,7 +117,7 @@ pub fn below(rng: &mut Xoshiro256PlusPlus, n: u32) -> u32 {
 /// [`below`] when its first draw `first` is already taken: the further
 /// draws, if any, come from `rng`.
 #[inline]
-pub fn below_from(rng: &mut Xoshiro256PlusPlus, first: u32, n: u32) -> u32 {
+pub fn below_from(rng: &mut impl Rng, first: u32, n: u32) -> u32 {
     debug_assert!(n >= 1);
     let mut m = first as u64 * n as u64;
     if (m as u32) < n {
@@ -139,6 +134,7 @@ mod tests {
     use super::*;
     use crate::pipe::collision::threshold;
     use rand::SeedableRng;
+    use rand_xoshiro::Xoshiro256PlusPlus;
 
     #[test]
     fn certain_events_draw_nothing_and_a_half_draws_one_word() {

@@ -38,7 +38,7 @@ use crate::error::{check_unit, Result};
 use crate::lattice::neighbour;
 use grid::{bit_range, site_totals, Grid, Word};
 use logic::{Decisions, Moves};
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// The thresholds of the collision draws, read from the reference's table
@@ -90,10 +90,10 @@ impl CollisionThresholds {
 
 /// The fast engine: the state as bit planes, the run's generator, counters.
 #[derive(Debug, Clone)]
-pub struct FastPipe {
+pub struct FastPipe<R = Xoshiro256PlusPlus> {
     params: Params,
     rules: Rules,
-    rng: Xoshiro256PlusPlus,
+    rng: R,
     grid: Grid,
     next: Grid,
     collision: CollisionThresholds,
@@ -158,6 +158,34 @@ impl FastPipe {
         Ok(pipe)
     }
 
+    /// This run with its random words drawn from `rng` from now on: only
+    /// for the mutant engines of `validate` (`crate::validate::mutants`).
+    #[doc(hidden)]
+    pub fn with_rng<S: Rng + Clone + Send>(self, rng: S) -> FastPipe<S> {
+        FastPipe {
+            params: self.params,
+            rules: self.rules,
+            rng,
+            grid: self.grid,
+            next: self.next,
+            collision: self.collision,
+            g_t: self.g_t,
+            b_t: self.b_t,
+            p_t: self.p_t,
+            inject_t: self.inject_t,
+            exits: self.exits,
+            segments: self.segments,
+            bin_start: self.bin_start,
+            extras: self.extras,
+            ahead: self.ahead,
+            walker: self.walker,
+            time: self.time,
+            flux: self.flux,
+        }
+    }
+}
+
+impl<R: Rng + Clone + Send> FastPipe<R> {
     /// The random start of the periodic pipe (MODEL.md A8): each moving
     /// channel of each site occupied with probability rho/6.
     fn random_start(&mut self) {
@@ -256,7 +284,7 @@ impl FastPipe {
 }
 
 /// The sub-steps of one time step, in the order of MODEL.md A2.
-impl SubSteps for FastPipe {
+impl<R: Rng + Clone + Send> SubSteps for FastPipe<R> {
     /// The parameters of the run.
     fn params(&self) -> &Params {
         &self.params
@@ -426,7 +454,7 @@ impl SubSteps for FastPipe {
 }
 
 /// The parts of the sub-steps, and what a run measures.
-impl FastPipe {
+impl<R: Rng + Clone + Send> FastPipe<R> {
     /// Relocation of the extra rest particles (MODEL.md A4), by the rule the
     /// reference uses ([`relocation::relocate`]), its walk on a neighbour
     /// table ([`walk::Walker`]: the same hops from the same draws).
@@ -499,7 +527,7 @@ impl FastPipe {
     /// `rest-slide` (MODEL.md A5): a rest particle blocked by an occupied
     /// channel 4 slides down a free diagonal with probability g (a fair coin
     /// when both are free).
-    fn rest_slide(rng: &mut Xoshiro256PlusPlus, g: u64, before: &Word, after: &Word) -> Word {
+    fn rest_slide(rng: &mut R, g: u64, before: &Word, after: &Word) -> Word {
         let slid = lanes::bernoulli(rng, g, logic::slide_candidates(before, after));
         let coin = lanes::coins(rng, logic::slide_choices(after, slid));
         logic::apply_slide(after, slid, coin)
@@ -649,7 +677,7 @@ fn exit_channels(x: usize, w: usize, l: usize) -> (u8, u8) {
     (bottom, top)
 }
 
-impl PipeEngine for FastPipe {
+impl<R: Rng + Clone + Send> PipeEngine for FastPipe<R> {
     fn params(&self) -> &Params {
         FastPipe::params(self)
     }

@@ -22,7 +22,6 @@ use crate::lattice::neighbour;
 use crate::pipe::relocation;
 use crate::pipe::{Boundary, Params};
 use rand::Rng;
-use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// A site's name in the table: an index into the rest plane.
 trait Site: Copy + Default {
@@ -92,7 +91,7 @@ impl Walker {
     pub fn walk(
         &self,
         grid: &mut Grid,
-        rng: &mut Xoshiro256PlusPlus,
+        rng: &mut impl Rng,
         params: &Params,
         (x, y): (usize, usize),
         time: u64,
@@ -116,7 +115,7 @@ impl Walker {
         &self,
         next: &[[S; 6]],
         cells: &mut [Word],
-        rng: &mut Xoshiro256PlusPlus,
+        rng: &mut impl Rng,
         mut s: usize,
     ) -> bool {
         if self.count[s] == 0 {
@@ -181,6 +180,7 @@ mod tests {
     use super::*;
     use crate::pipe::relocation::{random_walk, RestChannels};
     use rand::SeedableRng;
+    use rand_xoshiro::Xoshiro256PlusPlus;
 
     /// A lattice filled with rest particles but for `holes` random sites.
     fn nearly_full(params: &Params, holes: usize, seed: u64) -> Grid {
