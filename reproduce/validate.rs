@@ -12,7 +12,9 @@ use granular_automata::run::{progress, write_atomic, Output, Tier};
 use granular_automata::validate::candidate::Candidate;
 use granular_automata::validate::conformance::{MAX_TRIALS, MIN_TRIALS};
 use granular_automata::validate::repeat::Repeat;
-use granular_automata::validate::{self, candidate_from, conformance, Level, Model, Plan, Size};
+use granular_automata::validate::{
+    self, candidate_from, conformance, detect, Level, Model, Plan, Size,
+};
 use std::path::PathBuf;
 
 /// Validate a candidate engine against the reference (VALIDATION.md).
@@ -25,7 +27,7 @@ struct Args {
     /// 1 (rule conformance), 2 (scenes) or all.
     #[arg(long, value_enum, default_value_t = Level::All)]
     level: Level,
-    /// pipe, hopper (MODEL.md Part B; Rust candidates only) or all.
+    /// pipe, hopper (MODEL.md Part B) or all.
     #[arg(long, value_enum, default_value_t = Model::All)]
     model: Model,
     /// quick (seconds) or standard (minutes); paper = standard.
@@ -55,6 +57,11 @@ struct Args {
     /// update of the run's plan); a run over it is stopped and named.
     #[arg(long, value_parser = |s: &str| parse_real("--run-timeout", s, 0.001, 1e6), allow_negative_numbers = true)]
     run_timeout: Option<f64>,
+    /// Choose the level-1 trials and level-2 runs that catch a rule
+    /// probability off by this relative error with power 0.95 (e.g. 3% or
+    /// 0.03; VALIDATION.md), and print the cost before starting.
+    #[arg(long, value_parser = detect::parse_error, conflicts_with_all = ["trials", "runs"])]
+    detect: Option<f64>,
     /// Write the reference's exact level-1 table as JSON to this file and exit.
     #[arg(long)]
     export_table: Option<PathBuf>,
@@ -102,6 +109,12 @@ fn usage(args: &Args) -> granular_automata::Result<Setup> {
     size.trials = args.trials.unwrap_or(size.trials);
     size.runs = args.runs.unwrap_or(size.runs);
     size.hopper_runs = args.hopper_runs.unwrap_or(size.hopper_runs);
+    if let Some(e) = args.detect {
+        let limits = (MAX_TRIALS, 10_000);
+        let d = detect::plan(e, args.tier, args.level, (size.trials, size.runs), limits)?;
+        (size.trials, size.runs) = (d.trials, d.runs);
+        println!("{}", detect::describe(&d, args.level));
+    }
     let limit = args.run_timeout.map(std::time::Duration::from_secs_f64);
     let cand = candidate_from(&args.candidate, limit)?;
     validate::check_model(cand.as_ref(), args.model)?;

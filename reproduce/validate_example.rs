@@ -1,23 +1,39 @@
-//! The example external engine of VALIDATION.md: the reference engine behind
+//! The example external engine of VALIDATION.md: the reference engines behind
 //! the external-program contract. `validate --candidate cmd:'PATH/validate-example'`
 //! must pass; an engine in another language does what this does.
 //!
 //! Protocol: called as `validate-example run --plan -`, it reads one JSON
-//! RunPlan on stdin and prints one JSON Sample per line on stdout.
+//! RunPlan on stdin and prints one JSON Sample per line on stdout (the
+//! pipe); called as `validate-example hopper --plan -`, one JSON HopperPlan,
+//! and prints the lines of its action (the hopper). With `--mutant NAME`
+//! first, it serves that mutant of the catalogue instead (a wrong engine
+//! behind the contract, for the tests).
 
+use granular_automata::hopper::engine::Reference as ReferenceHopper;
 use granular_automata::pipe::engine::Reference;
-use granular_automata::validate::candidate::serve;
+use granular_automata::validate::mutants::Mutant;
+use granular_automata::validate::{candidate, external_hopper};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    if args != ["run", "--plan", "-"] {
-        return Err(format!(
-            "usage: validate-example run --plan - (a RunPlan as JSON on stdin); got {args:?}"
-        )
-        .into());
-    }
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
-    serve(Reference, &mut std::io::stdin(), &mut out)?;
+    let (input, output) = (&mut std::io::stdin(), &mut out);
+    match args.iter().map(String::as_str).collect::<Vec<_>>()[..] {
+        ["run", "--plan", "-"] => candidate::serve(Reference, input, output)?,
+        ["hopper", "--plan", "-"] => external_hopper::serve(&ReferenceHopper, input, output)?,
+        ["--mutant", name, "run", "--plan", "-"] => {
+            candidate::serve(name.parse::<Mutant>()?, input, output)?
+        }
+        ["--mutant", name, "hopper", "--plan", "-"] => {
+            external_hopper::serve(&name.parse::<Mutant>()?, input, output)?
+        }
+        _ => {
+            return Err(format!(
+                "usage: validate-example [--mutant NAME] run --plan - (a RunPlan as JSON on stdin) or validate-example [--mutant NAME] hopper --plan - (a HopperPlan); got {args:?}"
+            )
+            .into())
+        }
+    }
     Ok(())
 }

@@ -147,7 +147,6 @@ fn scratch(name: &str) -> PathBuf {
 #[test]
 fn validate_usage_errors_exit_2_and_name_the_option() {
     let exe = env!("CARGO_BIN_EXE_validate");
-    let cmd = format!("cmd:{}", env!("CARGO_BIN_EXE_validate-example"));
     for (args, want) in [
         (&["--trials", "1"][..], &["--trials", "100..=1000000"][..]),
         (&["--trials", "-1"], &["--trials = -1", "100..=1000000"]),
@@ -158,10 +157,10 @@ fn validate_usage_errors_exit_2_and_name_the_option() {
         (&["--seed", "-1"], &["--seed"]),
         (&["--candidate", "mutant:nope"], &["biased-stream"]),
         (&["--rules", "nope"], &["nope"]),
-        (
-            &["--candidate", cmd.as_str(), "--model", "hopper"],
-            &["provides no hopper engine"],
-        ),
+        (&["--detect", "0"], &["--detect", "(0, 1]"]),
+        (&["--detect", "150%"], &["--detect", "(0, 1]"]),
+        (&["--detect", "1%", "--trials", "500"], &["--trials"]),
+        (&["--detect", "0.01%"], &["smallest error"]),
     ] {
         let code = refused(exe, args, want);
         assert_eq!(code, 2, "validate {args:?}: a usage error exits 2");

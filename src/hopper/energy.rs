@@ -10,7 +10,7 @@
 //! per-pair power.
 
 use crate::error::{check_min, check_range, Error, Result};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Number of grain states: 3 orientations x 7 motions (MODEL.md B1).
 pub const STATES: usize = 21;
@@ -43,7 +43,7 @@ pub fn axis_of(c: usize) -> usize {
 ///
 /// The default is [`Aligned::AlongBond`] ([`Aligned::DEFAULT`]), the reading
 /// that reproduces the most BB90 claims (HOPPER_READINGS.md Part 3).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum Aligned {
     /// The literal reading: `O_i = O_N` and that axis is parallel to `v_i`
@@ -89,7 +89,7 @@ impl Aligned {
 /// What "aligned along one of their velocity vectors" (BB90 eq. 5) means for
 /// a pair of grains that are both at rest, which have no velocity vector
 /// (HOPPER_READINGS.md R1b; only read by [`Aligned::AlongVelocity`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum RestPairs {
     /// No velocity, so never aligned (the literal reading; default).
@@ -101,7 +101,7 @@ pub enum RestPairs {
 }
 
 /// Parameters of the energy (MODEL.md B4); defaults from BB90 Fig. 2.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct EnergyParams {
     /// Delta: gravity penalty for not falling into a hole below (MODEL.md B4).
     pub delta: f64,
@@ -168,7 +168,7 @@ impl EnergyParams {
 }
 
 /// How the spacing d of F_dilation is measured (MODEL.md B4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum DilationReading {
     /// The ray reading (default): rays of up to K steps stop at grains and
@@ -182,7 +182,7 @@ pub enum DilationReading {
 }
 
 /// Parameters of the dilation spacing d (MODEL.md B4).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct DilationParams {
     /// Which reading of d.
     pub reading: DilationReading,

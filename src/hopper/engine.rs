@@ -68,6 +68,38 @@ pub trait HopperEngine: Send {
     fn site_updates(&self) -> f64 {
         0.0
     }
+    /// `n` iterations without rain: per iteration its report and the
+    /// moving grains of each orientation after it ([`moving_by_orientation`]).
+    /// An engine behind a process (`validate`'s external contract) does
+    /// them in one run of its program.
+    fn empty_steps(&mut self, n: u64) -> Vec<(StepReport, [u64; 3])> {
+        (0..n)
+            .map(|_| {
+                let r = self.step(false);
+                (r, moving_by_orientation(self.sites()))
+            })
+            .collect()
+    }
+    /// The first error met by a method that cannot return one (`step`,
+    /// `fill`, `empty_steps`, `open`): an engine behind a process whose
+    /// program broke the contract. In-process engines have none.
+    fn error(&self) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// Moving grains (motion v != 0) of each orientation O = 0, 1, 2
+/// (MODEL.md B1) among the site values `sites`.
+pub fn moving_by_orientation(sites: &[u8]) -> [u64; 3] {
+    use super::energy::{motion, orientation};
+    use super::model::{grain_state, is_grain};
+    let mut moving = [0u64; 3];
+    for &s in sites {
+        if is_grain(s) && motion(grain_state(s)) != 0 {
+            moving[orientation(grain_state(s))] += 1;
+        }
+    }
+    moving
 }
 
 /// Builds runs of one hopper engine.

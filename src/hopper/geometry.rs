@@ -7,10 +7,10 @@
 
 use crate::error::{check_min, Error, Result};
 use crate::lattice::{neighbour, position};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Sizes of the hopper (MODEL.md B2; the paper gives only the wedge angle).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct GeometryParams {
     /// Lattice columns W (horizontal).
     pub width: usize,

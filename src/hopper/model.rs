@@ -8,7 +8,7 @@ use super::geometry::{Geometry, GeometryParams, SiteKind, OFF};
 use crate::error::{check_range, check_unit, Error, Result};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Site value of a hole.
 pub const HOLE: u8 = 0;
@@ -33,7 +33,7 @@ pub fn grain_state(site: u8) -> usize {
 /// Gaussian rain of MODEL.md B5: each iteration each empty site of the top
 /// row receives a rest grain of random orientation with probability
 /// `peak * exp(-(x - centre)^2 / (2 sigma^2))` (x in columns).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RainParams {
     /// Centre column; `None` is the outlet's column.
     pub centre: Option<f64>,
@@ -55,7 +55,7 @@ impl Default for RainParams {
 }
 
 /// The order of the interaction step (HOPPER_READINGS.md R5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum UpdateOrder {
     /// All grains choose at once from the previous iteration, then move
@@ -69,7 +69,7 @@ pub enum UpdateOrder {
 }
 
 /// What the losers of a conflict for one hole do (HOPPER_READINGS.md R4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum ConflictRule {
     /// The losers come to rest keeping the orientation they chose (default).
@@ -81,7 +81,7 @@ pub enum ConflictRule {
 }
 
 /// The update rules of one iteration that the text leaves open (MODEL.md B3).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub struct Dynamics {
     /// Order of the interaction step.
     pub order: UpdateOrder,
@@ -90,7 +90,7 @@ pub struct Dynamics {
 }
 
 /// All parameters of a hopper run.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 pub struct HopperParams {
     /// Container sizes (MODEL.md B2).
     pub geometry: GeometryParams,
@@ -134,7 +134,7 @@ impl HopperParams {
 }
 
 /// What one iteration did.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub struct StepReport {
     /// Grains that left through the outlet.
     pub outflow: u32,

@@ -57,7 +57,7 @@ pub trait Candidate: Sync {
     /// Run `plan` and return its samples in time order.
     fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>>;
     /// Its hopper engine (MODEL.md Part B), if it provides one; the
-    /// external-program contract is pipe-only, so none by default.
+    /// external-program contract serves one too; none by default.
     fn hopper(&self) -> Option<&dyn HopperBuilder> {
         None
     }
@@ -195,9 +195,61 @@ impl Candidate for External {
         format!("cmd:{}", self.command)
     }
 
+    /// The same program, called with `hopper` instead of `run`
+    /// ([`super::external_hopper`]).
+    fn hopper(&self) -> Option<&dyn HopperBuilder> {
+        Some(self)
+    }
+
     fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>> {
         check_plan(plan)?;
         let json = serde_json::to_string(plan).expect("a plan serialises");
+        let limit = self.time_limit.unwrap_or_else(|| default_time_limit(plan));
+        let what = || {
+            format!(
+                "plan seed {}, {} steps of a {} x {} pipe, a sample every {} steps",
+                plan.seed, plan.steps, plan.params.length, plan.params.width, plan.every
+            )
+        };
+        let text = self.call("run", json, limit, &what)?;
+        let samples: Vec<Sample> = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty())
+            .enumerate()
+            .map(|(i, (n, l))| {
+                read_sample(plan, i, l).map_err(|why| {
+                    let what = format!("line {} {why}; the line reads: {}", n + 1, excerpt(l));
+                    external_error(&self.command, &what)
+                })
+            })
+            .collect::<Result<_>>()?;
+        let want = plan.steps / plan.every;
+        if samples.len() as u64 != want {
+            return Err(external_error(
+                &self.command,
+                &format!(
+                    "printed {} samples, the plan asks for {want}",
+                    samples.len()
+                ),
+            ));
+        }
+        Ok(samples)
+    }
+}
+
+impl External {
+    /// Start the program as `sh -c 'COMMAND "$@"' sh MODE --plan -`, write
+    /// `json` on its stdin, and return its stdout; stop it after `limit`
+    /// (its plan described by `what` in the error) and fail every later
+    /// call at once.
+    pub(crate) fn call(
+        &self,
+        mode: &str,
+        json: String,
+        limit: Duration,
+        what: &dyn Fn() -> String,
+    ) -> Result<String> {
         if let Some(first) = self.stalled.get() {
             return Err(external_error(&self.command, first));
         }
@@ -205,7 +257,7 @@ impl Candidate for External {
             .arg("-c")
             .arg(format!("{} \"$@\"", self.command))
             .arg("sh")
-            .arg("run")
+            .arg(mode)
             .arg("--plan")
             .arg("-")
             .stdin(Stdio::piped())
@@ -220,7 +272,6 @@ impl Candidate for External {
         let writer = std::thread::spawn(move || stdin.write_all(json.as_bytes()));
         let stdout = read_all(child.stdout.take().expect("stdout is piped"));
         let stderr = read_all(child.stderr.take().expect("stderr is piped"));
-        let limit = self.time_limit.unwrap_or_else(|| default_time_limit(plan));
         // wait in a thread of its own, so that the limit needs no polling
         let pid = child.id();
         let (tx, rx) = std::sync::mpsc::channel();
@@ -235,13 +286,9 @@ impl Candidate for External {
                     .args(["-KILL", "--", &format!("-{pid}")])
                     .status();
                 let what = format!(
-                    "did not finish its run within the time limit of {:.1} s and was stopped: plan seed {}, {} steps of a {} x {} pipe, a sample every {} steps (set the limit with --run-timeout)",
+                    "did not finish its run within the time limit of {:.1} s and was stopped: {} (set the limit with --run-timeout)",
                     limit.as_secs_f64(),
-                    plan.seed,
-                    plan.steps,
-                    plan.params.length,
-                    plan.params.width,
-                    plan.every
+                    what()
                 );
                 let _ = self.stalled.set(what.clone());
                 return Err(external_error(&self.command, &what));
@@ -279,29 +326,7 @@ impl Candidate for External {
                 ),
             ));
         }
-        let samples: Vec<Sample> = text
-            .lines()
-            .enumerate()
-            .filter(|(_, l)| !l.trim().is_empty())
-            .enumerate()
-            .map(|(i, (n, l))| {
-                read_sample(plan, i, l).map_err(|why| {
-                    let what = format!("line {} {why}; the line reads: {}", n + 1, excerpt(l));
-                    external_error(&self.command, &what)
-                })
-            })
-            .collect::<Result<_>>()?;
-        let want = plan.steps / plan.every;
-        if samples.len() as u64 != want {
-            return Err(external_error(
-                &self.command,
-                &format!(
-                    "printed {} samples, the plan asks for {want}",
-                    samples.len()
-                ),
-            ));
-        }
-        Ok(samples)
+        Ok(text.into_owned())
     }
 }
 

@@ -631,15 +631,12 @@ pub fn run_scene(
     e.open();
     let mut outflow = Vec::with_capacity(scene.window as usize);
     let mut moving = [0u64; 3];
-    for t in 0..scene.skip + scene.window {
-        let r = e.step(false);
-        if t >= scene.skip {
-            outflow.push(r.outflow as f64);
-            for &s in e.sites() {
-                if is_grain(s) && motion(grain_state(s)) != 0 {
-                    moving[orientation(grain_state(s))] += 1;
-                }
-            }
+    let steps = e.empty_steps(scene.skip + scene.window);
+    e.error()?;
+    for (r, m) in steps.into_iter().skip(scene.skip as usize) {
+        outflow.push(r.outflow as f64);
+        for (total, k) in moving.iter_mut().zip(m) {
+            *total += k;
         }
     }
     let g_end = orientation_correlation_of(e.geometry(), e.sites(), 4);

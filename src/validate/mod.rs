@@ -14,6 +14,8 @@
 
 pub mod candidate;
 pub mod conformance;
+pub mod detect;
+pub mod external_hopper;
 pub mod hopper;
 pub mod memory;
 pub mod mutants;
@@ -190,7 +192,7 @@ pub fn check_model(cand: &dyn Candidate, model: Model) -> Result<()> {
         return Err(Error::new(
             ErrorKind::InvalidParameter,
             format!(
-                "--model hopper: the candidate {} provides no hopper engine (the external-program contract is pipe-only); use --model pipe or all",
+                "--model hopper: the candidate {} provides no hopper engine; use --model pipe or all",
                 cand.name()
             ),
         ));

@@ -1,0 +1,229 @@
+//! `validate --detect E` (issue 33 item 3): the level-1 trials and level-2
+//! runs that catch a rule probability off by the relative error E with
+//! power 0.95, from the measured detection table (VALIDATION.md, "The
+//! smallest detectable error"; EXPERIMENTS.md, issue 33).
+//!
+//! The scaling: a probability q used as (1 + e) q shifts the frequency of
+//! an outcome by about e q, and the statistics of both levels (binomial
+//! counts at level 1, Welch's t of run means at level 2) grow as e sqrt(n)
+//! for n trials or runs. So the power at (e, n) is the power at (e', n')
+//! with e sqrt(n) = e' sqrt(n'). The table measured the power at two trial
+//! counts (quick 4000, standard 20000) and several e; the constants below
+//! are the smallest e sqrt(n) at which every knob was caught in at least
+//! 19 of 20 validations.
+//!
+//! Level 1 sees p (R2, R3), R1's split, g and b; only level 2 sees the
+//! injection rate I of the open pipe, so level 2's runs come from it.
+
+use super::Level;
+use crate::error::{Error, ErrorKind, Result};
+use crate::run::Tier;
+
+/// e sqrt(trials) of level 1 at power 0.95 for every knob of level 1: the
+/// hardest, p in R3 alone, was caught 20 of 20 at e = 10 % with 4000
+/// trials (6 of 20 at 5 %; R1's split 20 of 20 at 3 % with 20000 trials,
+/// e sqrt(n) = 4.24). Measured in session 19 (EXPERIMENTS.md).
+pub const LEVEL1_C: f64 = 6.33;
+
+/// e sqrt(runs) of level 2 at power 0.95 for the injection rate, per tier
+/// of the scenes (quick, standard). Measured in session 19.
+pub const LEVEL2_C: (f64, f64) = (0.0, 0.0);
+
+/// Level-1 CPU seconds per trial per state (reference and candidate both
+/// the reference engine; `validate --level 1`, quick 4.1 s for 4000
+/// trials, standard 20.3 s for 20000, session 19).
+pub const LEVEL1_CPU_PER_TRIAL: f64 = 1.0e-3;
+
+/// Level-2 CPU seconds per run per engine (all scenes, both engines): quick
+/// 3.05 s for 8 runs, standard 19.95 s for 16 runs (session 19).
+pub const LEVEL2_CPU_PER_RUN: (f64, f64) = (0.38, 1.25);
+
+/// What `--detect` chose.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Detect {
+    /// The relative error to catch.
+    pub e: f64,
+    /// Level-1 trials per state.
+    pub trials: usize,
+    /// Level-2 runs per engine per scene.
+    pub runs: usize,
+    /// Estimated CPU seconds when the candidate is as fast as the reference.
+    pub cpu_seconds: f64,
+}
+
+/// Parse the value of `--detect`: `3%` or `0.03`, a relative error in
+/// (0, 1].
+pub fn parse_error(s: &str) -> Result<f64> {
+    let t = s.trim();
+    let (num, scale) = match t.strip_suffix('%') {
+        Some(n) => (n, 0.01),
+        None => (t, 1.0),
+    };
+    match num.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v * scale > 0.0 && v * scale <= 1.0 => Ok(v * scale),
+        _ => Err(Error::out_of_range(
+            "--detect",
+            s,
+            "(0, 1] (a relative error, e.g. 3% or 0.03)",
+        )),
+    }
+}
+
+/// The smallest n with e sqrt(n) >= c.
+fn needed(c: f64, e: f64) -> usize {
+    ((c / e).powi(2)).ceil() as usize
+}
+
+/// Trials and runs for a relative error `e` at the scenes of `tier`, for
+/// the `levels` asked (the other's count stays at `tier`'s), within
+/// `max_trials` and `max_runs`.
+pub fn plan(
+    e: f64,
+    tier: Tier,
+    levels: Level,
+    (trials, runs): (usize, usize),
+    (max_trials, max_runs): (usize, usize),
+) -> Result<Detect> {
+    let c2 = tier.pick(LEVEL2_C.0, LEVEL2_C.1, LEVEL2_C.1);
+    let per_run = tier.pick(
+        LEVEL2_CPU_PER_RUN.0,
+        LEVEL2_CPU_PER_RUN.1,
+        LEVEL2_CPU_PER_RUN.1,
+    );
+    let too_small = |what: &str, c: f64, max: usize| {
+        Error::new(
+            ErrorKind::InvalidParameter,
+            format!(
+                "--detect {:.3}%: {what} would need more than {max}; the smallest error it can target is {:.3}%",
+                100.0 * e,
+                100.0 * c / (max as f64).sqrt()
+            ),
+        )
+    };
+    let mut d = Detect {
+        e,
+        trials,
+        runs,
+        cpu_seconds: 0.0,
+    };
+    if levels != Level::Two {
+        d.trials = needed(LEVEL1_C, e).max(super::conformance::MIN_TRIALS);
+        if d.trials > max_trials {
+            return Err(too_small("level 1 trials per state", LEVEL1_C, max_trials));
+        }
+        d.cpu_seconds += LEVEL1_CPU_PER_TRIAL * d.trials as f64;
+    }
+    if levels != Level::One {
+        d.runs = needed(c2, e).max(3);
+        if d.runs > max_runs {
+            return Err(too_small("level 2 runs per engine", c2, max_runs));
+        }
+        d.cpu_seconds += per_run * d.runs as f64;
+    }
+    Ok(d)
+}
+
+/// The line `validate --detect` prints before it starts.
+pub fn describe(d: &Detect, levels: Level) -> String {
+    let mut parts = Vec::new();
+    if levels != Level::Two {
+        parts.push(format!("level 1 with {} trials per state", d.trials));
+    }
+    if levels != Level::One {
+        parts.push(format!("level 2 with {} runs per engine per scene", d.runs));
+    }
+    format!(
+        "--detect {:.2}%: {} (power 0.95 against any rule probability off by that much); about {:.0} CPU-s ({:.1} CPU-min) for a candidate as fast as the reference",
+        100.0 * d.e,
+        parts.join(" and "),
+        d.cpu_seconds,
+        d.cpu_seconds / 60.0
+    )
+}
+
+/// One row of the detection table: `validate --repeat` of one parametric
+/// mutant at one tier and level.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// `quick` or `standard`.
+    pub tier: String,
+    /// 1 or 2.
+    pub level: u8,
+    /// The knob (`p`, `r1-split`, ...).
+    pub knob: String,
+    /// The factor 1 + e.
+    pub factor: f64,
+    /// Validations that failed.
+    pub failed: usize,
+    /// Validations.
+    pub total: usize,
+}
+
+/// The row of one `--repeat` CSV (its header comment names the candidate
+/// `mutant:KNOB*F`, the level and the tier); `None` for another candidate.
+pub fn read_row(text: &str) -> Option<Row> {
+    let head = text.lines().next()?.strip_prefix("# ")?;
+    let field = |k: &str| {
+        head.split_whitespace()
+            .find_map(|w| w.strip_prefix(k)?.strip_prefix('='))
+    };
+    let (knob, f) = field("candidate")?
+        .strip_prefix("mutant:")?
+        .split_once('*')?;
+    let level = match field("level")? {
+        "One" => 1,
+        "Two" => 2,
+        _ => return None,
+    };
+    let rows: Vec<&str> = text.lines().skip(2).filter(|l| !l.is_empty()).collect();
+    Some(Row {
+        tier: field("tier")?.to_lowercase(),
+        level,
+        knob: knob.to_string(),
+        factor: f.parse().ok()?,
+        failed: rows
+            .iter()
+            .filter(|l| l.split(',').nth(1) == Some("false"))
+            .count(),
+        total: rows.len(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_repeat_csv_is_one_row() {
+        let text = "# candidate=mutant:p-r3*1.05 level=One model=Pipe tier=Quick rules=default trials=4000 runs=8 hopper_runs=8\nseed,pass\n1,true\n2,false\n3,false\n";
+        let r = read_row(text).unwrap();
+        assert_eq!(
+            (r.knob.as_str(), r.level, r.tier.as_str()),
+            ("p-r3", 1, "quick")
+        );
+        assert_eq!((r.factor, r.failed, r.total), (1.05, 2, 3));
+        assert!(read_row("# candidate=reference level=One tier=Quick\n").is_none());
+    }
+
+    #[test]
+    fn errors_parse_as_percent_or_fraction() {
+        assert_eq!(parse_error("3%").unwrap(), 0.03);
+        assert_eq!(parse_error("0.03").unwrap(), 0.03);
+        for bad in ["0", "0%", "-1%", "150%", "x", "nan", "inf%"] {
+            let e = parse_error(bad).unwrap_err();
+            assert!(format!("{e}").contains("--detect"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn counts_grow_as_one_over_e_squared() {
+        let lim = (1_000_000, 10_000);
+        let a = plan(0.10, Tier::Quick, Level::One, (4000, 8), lim).unwrap();
+        let b = plan(0.05, Tier::Quick, Level::One, (4000, 8), lim).unwrap();
+        assert_eq!(a.trials, 4007); // (6.33 / 0.1)^2 = 4006.9
+        assert!((b.trials as f64 / a.trials as f64 - 4.0).abs() < 0.01);
+        assert_eq!(a.runs, 8); // level 2 not asked: the tier's
+        let e = plan(0.001, Tier::Quick, Level::One, (4000, 8), lim).unwrap_err();
+        assert!(format!("{e}").contains("smallest error"), "{e}");
+    }
+}
