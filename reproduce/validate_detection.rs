@@ -39,16 +39,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     });
     let mut csv = String::from("tier,level,knob,e_percent,failed,validations\n");
     for r in &rows {
-        let line = format!(
-            "{},{},{},{},{},{}\n",
-            r.tier,
-            r.level,
-            r.knob,
-            e(r),
-            r.failed,
-            r.total
-        );
-        csv.push_str(&line);
+        let cells = [r.tier.clone(), r.level.to_string(), r.knob.clone()];
+        let counts = [e(r).to_string(), r.failed.to_string(), r.total.to_string()];
+        csv.push_str(&(cells.join(",") + "," + &counts.join(",") + "\n"));
     }
     std::fs::write(dir.join("detection.csv"), csv)?;
     register_fonts();

@@ -42,6 +42,12 @@ fn passing(tag: &str, args: &[&str]) -> (PathBuf, serde_json::Value) {
     (dir, r)
 }
 
+/// The exit code of `validate ARGS --out DIR`.
+fn exit_code(args: &[&str], dir: &std::path::Path) -> Option<i32> {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_validate"));
+    c.args(args).arg("--out").arg(dir).status().unwrap().code()
+}
+
 /// The arguments of a quick-tier validation of `candidate` at `level`,
 /// followed by `extra`.
 fn quick_args<'a>(candidate: &'a str, level: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
@@ -154,17 +160,20 @@ fn the_beta_sign_mutant_also_fails_hopper_level_2() {
     assert!(!r.hopper.unwrap().level2.unwrap().pass);
 }
 
+/// Pipe level 1 of mutant `m` at the quick tier, seed 3.
+fn level1_of(m: Mutant) -> granular_automata::validate::conformance::Level1 {
+    let plan = Plan::quick(Level::One, Model::Pipe, 3);
+    validate(&Builtin(m), &plan, &|| {})
+        .unwrap()
+        .level1
+        .unwrap()
+}
+
 #[test]
 fn every_mutant_fails_level_1() {
     for (name, m) in MUTANTS.into_iter().filter(|(_, m)| !m.is_hopper()) {
-        let r = validate(
-            &Builtin(m),
-            &Plan::quick(Level::One, Model::Pipe, 3),
-            &|| {},
-        )
-        .unwrap();
-        let l = r.level1.unwrap();
-        assert!(!r.pass, "mutant {name} passed level 1");
+        let l = level1_of(m);
+        assert!(!l.pass, "mutant {name} passed level 1");
         assert!(!l.differences.is_empty(), "{name}");
     }
 }
@@ -247,13 +256,7 @@ fn a_wrong_external_hopper_fails_through_the_contract() {
         env!("CARGO_BIN_EXE_validate-example")
     );
     let args = quick_args(&cmd, "2", &["--model", "hopper"]);
-    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(&args)
-        .arg("--out")
-        .arg(&dir)
-        .status()
-        .unwrap();
-    assert_eq!(status.code(), Some(1));
+    assert_eq!(exit_code(&args, &dir), Some(1));
     assert_eq!(report(&dir)["hopper"]["level2"]["pass"], false);
     let d = dir.to_str().unwrap();
     let args = [
@@ -295,13 +298,7 @@ fn a_candidate_deaf_to_lane_collide_fails_the_memory_probe_and_level_2() {
         "all",
         &["--model", "pipe", "--rules", "default+lane-collide"],
     );
-    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(&args)
-        .arg("--out")
-        .arg(&dir)
-        .status()
-        .unwrap();
-    assert_eq!(status.code(), Some(1));
+    assert_eq!(exit_code(&args, &dir), Some(1));
     let r = report(&dir);
     assert_eq!(r["level1"]["pass"], false, "{r}");
     let d = r["level1"]["differences"].as_array().unwrap();
@@ -370,36 +367,32 @@ fn fewer_than_three_runs_decide_nothing_and_say_why() {
 fn a_stalled_candidate_is_stopped_and_named() {
     let dir = out("stalled");
     let start = std::time::Instant::now();
-    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args([
-            "--candidate",
-            "cmd:sleep 100 #",
-            "--level",
-            "1",
-            "--model",
-            "pipe",
-        ])
-        .args(["--run-timeout", "0.5", "--out"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(
-        err.contains("time limit of 0.5 s") && err.contains("plan seed"),
-        "{err}"
-    );
+    // the pipe's level 1, then a hopper run: each stopped and named
+    for (model, level, needle) in [
+        ("pipe", "1", "plan seed"),
+        ("hopper", "all", "hopper plan seed"),
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_validate"))
+            .args([
+                "--candidate",
+                "cmd:sleep 100 #",
+                "--model",
+                model,
+                "--level",
+                level,
+            ])
+            .args(["--run-timeout", "0.5", "--out"])
+            .arg(&dir)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(
+            err.contains("time limit of 0.5 s") && err.contains(needle),
+            "{err}"
+        );
+    }
     assert!(start.elapsed().as_secs() < 30, "took {:?}", start.elapsed());
-    // a stalled hopper run is stopped and named the same way
-    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(["--candidate", "cmd:sleep 100 #", "--model", "hopper"])
-        .args(["--run-timeout", "0.5", "--out"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains("hopper plan seed"), "{err}");
     // a limit outside its range is a usage error naming it
     let args = ["--candidate", "cmd:true", "--run-timeout", "0"];
     common::fails_with(env!("CARGO_BIN_EXE_validate"), args, "--run-timeout");
@@ -411,14 +404,7 @@ fn a_stalled_candidate_is_stopped_and_named() {
 #[test]
 fn correlated_draws_pass_the_lone_sites_and_fail_the_memory_probes() {
     for name in ["draws-repeat-each-step", "lanes-shared-by-pairs"] {
-        let m: Mutant = name.parse().unwrap();
-        let r = validate(
-            &Builtin(m),
-            &Plan::quick(Level::One, Model::Pipe, 3),
-            &|| {},
-        )
-        .unwrap();
-        let l = r.level1.unwrap();
+        let l = level1_of(name.parse().unwrap());
         assert!(!l.pass, "{name} passed level 1");
         let probes: std::collections::BTreeSet<_> =
             l.differences.iter().map(|d| d.probe.as_str()).collect();

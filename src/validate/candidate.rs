@@ -417,6 +417,21 @@ fn external_error(cmd: &str, what: &str) -> Error {
     )
 }
 
+/// A plan of type `T` (named `name` in the error) as JSON from `input`.
+pub(crate) fn read_plan<T: serde::de::DeserializeOwned>(
+    input: &mut dyn std::io::Read,
+    name: &str,
+) -> Result<T> {
+    let mut text = String::new();
+    input.read_to_string(&mut text)?;
+    serde_json::from_str(&text).map_err(|e| {
+        Error::new(
+            ErrorKind::InvalidParameter,
+            format!("the plan is not valid JSON of a {name}: {e}"),
+        )
+    })
+}
+
 /// The external side of the contract for a Rust engine: read a [`RunPlan`]
 /// as JSON from `input`, run it with `builder`, write NDJSON samples to
 /// `output` (what `validate-example` does with the reference).
@@ -425,14 +440,7 @@ pub fn serve<B: EngineBuilder>(
     input: &mut dyn std::io::Read,
     output: &mut dyn Write,
 ) -> Result<()> {
-    let mut text = String::new();
-    input.read_to_string(&mut text)?;
-    let plan: RunPlan = serde_json::from_str(&text).map_err(|e| {
-        Error::new(
-            ErrorKind::InvalidParameter,
-            format!("the plan is not valid JSON of a RunPlan: {e}"),
-        )
-    })?;
+    let plan: RunPlan = read_plan(input, "RunPlan")?;
     for s in Builtin(builder).run(&plan)? {
         let line = serde_json::to_string(&s).expect("a sample serialises");
         writeln!(output, "{line}")?;

@@ -123,14 +123,7 @@ pub fn serve(
     input: &mut dyn std::io::Read,
     output: &mut dyn std::io::Write,
 ) -> Result<()> {
-    let mut text = String::new();
-    input.read_to_string(&mut text)?;
-    let plan: HopperPlan = serde_json::from_str(&text).map_err(|e| {
-        Error::new(
-            ErrorKind::InvalidParameter,
-            format!("the plan is not valid JSON of a HopperPlan: {e}"),
-        )
-    })?;
+    let plan: HopperPlan = super::candidate::read_plan(input, "HopperPlan")?;
     let mut e = builder.build(plan.params, plan.seed)?;
     if let Some(st) = &plan.state {
         set_up(e.as_mut(), st)?;
@@ -384,6 +377,19 @@ impl Proxy {
         Ok(out)
     }
 
+    /// Site `i` is an inside site (as the reference checks it).
+    fn inside(&self, i: usize) -> Result<()> {
+        let n = self.state.sites.len();
+        if i >= n || self.geometry.kind[i] != SiteKind::Inside {
+            return Err(Error::out_of_range(
+                "site index",
+                i,
+                &format!("an inside site of the {n}-site hopper"),
+            ));
+        }
+        Ok(())
+    }
+
     fn keep<T: Default>(&mut self, r: Result<T>) -> T {
         r.unwrap_or_else(|e| {
             self.error.get_or_insert(e);
@@ -465,14 +471,7 @@ impl HopperEngine for Proxy {
         self.iteration
     }
     fn set_site(&mut self, i: usize, value: u8) -> Result<()> {
-        let n = self.state.sites.len();
-        if i >= n || self.geometry.kind[i] != SiteKind::Inside {
-            return Err(Error::out_of_range(
-                "site index",
-                i,
-                &format!("an inside site of the {n}-site hopper"),
-            ));
-        }
+        self.inside(i)?;
         if value == WALL || value as usize > crate::hopper::energy::STATES {
             return Err(Error::out_of_range(
                 "site value",
@@ -492,14 +491,7 @@ impl HopperEngine for Proxy {
         Ok(())
     }
     fn set_spacing(&mut self, i: usize, d: f64) -> Result<()> {
-        let n = self.state.sites.len();
-        if i >= n || self.geometry.kind[i] != SiteKind::Inside {
-            return Err(Error::out_of_range(
-                "site index",
-                i,
-                &format!("an inside site of the {n}-site hopper"),
-            ));
-        }
+        self.inside(i)?;
         crate::error::check_range("spacing D", d, 1.0, 1e6)?;
         self.state.spacing[i] = d;
         Ok(())
