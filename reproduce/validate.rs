@@ -1,7 +1,6 @@
-//! `validate`: check another implementation of the pipe automaton against
-//! the reference engine (issue 12, VALIDATION.md). Writes
-//! `OUT/validate/report.md` and `report.json`; exits non-zero when the
-//! candidate fails.
+//! `validate`: check another implementation of the pipe and hopper automata
+//! against the reference engines (VALIDATION.md). Writes
+//! `OUT/validate/report.md` and `report.json`; exits 1 when it fails.
 //!
 //! `cargo run --release --bin validate -- --candidate mutant:p+10% --level 1`
 
@@ -16,6 +15,7 @@ use granular_automata::validate::{
     self, candidate_from, conformance, detect, Level, Model, Plan, Size,
 };
 use std::path::PathBuf;
+use std::time::Duration;
 
 /// Validate a candidate engine against the reference (VALIDATION.md).
 #[derive(Debug, Parser)]
@@ -57,9 +57,8 @@ struct Args {
     /// update of the run's plan); a run over it is stopped and named.
     #[arg(long, value_parser = |s: &str| parse_real("--run-timeout", s, 0.001, 1e6), allow_negative_numbers = true)]
     run_timeout: Option<f64>,
-    /// Choose the level-1 trials and level-2 runs that catch a rule
-    /// probability off by this relative error with power 0.95 (e.g. 3% or
-    /// 0.03; VALIDATION.md), and print the cost before starting.
+    /// Trials and runs that catch a rule probability off by this relative
+    /// error (e.g. 3%) with power 0.95; prints them and the cost first.
     #[arg(long, value_parser = detect::parse_error, conflicts_with_all = ["trials", "runs"])]
     detect: Option<f64>,
     /// Write the reference's exact level-1 table as JSON to this file and exit.
@@ -105,18 +104,14 @@ fn usage(args: &Args) -> granular_automata::Result<Setup> {
     if args.export_table.is_some() {
         return Ok(Setup::Export(rules));
     }
-    let mut size = Size::for_tier(args.tier);
-    size.trials = args.trials.unwrap_or(size.trials);
-    size.runs = args.runs.unwrap_or(size.runs);
-    size.hopper_runs = args.hopper_runs.unwrap_or(size.hopper_runs);
+    let mut size = Size::for_tier(args.tier).with(args.trials, args.runs, args.hopper_runs);
     if let Some(e) = args.detect {
-        let limits = (MAX_TRIALS, 10_000);
-        let d = detect::plan(e, args.tier, args.level, (size.trials, size.runs), limits)?;
-        (size.trials, size.runs) = (d.trials, d.runs);
-        println!("{}", detect::describe(&d, args.level));
+        println!("{}", detect::resize(&mut size, e, args.tier, args.level)?);
     }
-    let limit = args.run_timeout.map(std::time::Duration::from_secs_f64);
-    let cand = candidate_from(&args.candidate, limit)?;
+    let cand = candidate_from(
+        &args.candidate,
+        args.run_timeout.map(Duration::from_secs_f64),
+    )?;
     validate::check_model(cand.as_ref(), args.model)?;
     Ok(Setup::Validate(cand, size))
 }

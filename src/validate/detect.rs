@@ -74,16 +74,20 @@ fn needed(c: f64, e: f64) -> usize {
     ((c / e).powi(2)).ceil() as usize
 }
 
+/// Most level-2 runs per engine per scene (`validate --runs`).
+pub const MAX_RUNS: usize = 10_000;
+
 /// Trials and runs for a relative error `e` at the scenes of `tier`, for
-/// the `levels` asked (the other's count stays at `tier`'s), within
-/// `max_trials` and `max_runs`.
+/// the `levels` asked (the other's count stays as given), within
+/// `max_trials` and [`MAX_RUNS`].
 pub fn plan(
     e: f64,
     tier: Tier,
     levels: Level,
     (trials, runs): (usize, usize),
-    (max_trials, max_runs): (usize, usize),
+    max_trials: usize,
 ) -> Result<Detect> {
+    let max_runs = MAX_RUNS;
     let c2 = tier.pick(LEVEL2_C.0, LEVEL2_C.1, LEVEL2_C.1);
     let per_run = tier.pick(
         LEVEL2_CPU_PER_RUN.0,
@@ -121,6 +125,15 @@ pub fn plan(
         d.cpu_seconds += per_run * d.runs as f64;
     }
     Ok(d)
+}
+
+/// `validate --detect e`: set the trials and runs of `size` for `e` at
+/// `tier` and `levels` ([`plan`]); the line to print before starting.
+pub fn resize(size: &mut super::Size, e: f64, tier: Tier, levels: Level) -> Result<String> {
+    let max_trials = super::conformance::MAX_TRIALS;
+    let d = plan(e, tier, levels, (size.trials, size.runs), max_trials)?;
+    (size.trials, size.runs) = (d.trials, d.runs);
+    Ok(describe(&d, levels))
 }
 
 /// The line `validate --detect` prints before it starts.
@@ -217,7 +230,7 @@ mod tests {
 
     #[test]
     fn counts_grow_as_one_over_e_squared() {
-        let lim = (1_000_000, 10_000);
+        let lim = 1_000_000;
         let a = plan(0.10, Tier::Quick, Level::One, (4000, 8), lim).unwrap();
         let b = plan(0.05, Tier::Quick, Level::One, (4000, 8), lim).unwrap();
         assert_eq!(a.trials, 4007); // (6.33 / 0.1)^2 = 4006.9

@@ -6,7 +6,7 @@
 //! by time, or one random word shared by two lanes, would make).
 //!
 //! The probes: two rest particles alone in a periodic pipe W = 4, L =
-//! [`super::conformance::BLOCK`], for [`STEPS`] steps, one pipe per trial;
+//! 9, for [`STEPS`] steps, one pipe per trial;
 //! [`Pair::Across`] side by side (columns 1 and 2, row 4), [`Pair::Along`]
 //! one above the other (column 1, rows 4 and 5), since an engine may lay
 //! its lanes across the pipe or along it. A rest particle falls with
@@ -63,6 +63,8 @@ pub const STEPS: u64 = 4;
 /// the correlations it looks for are gross (a pair that always falls
 /// together, a particle that never falls).
 pub const TRIALS_DIVISOR: usize = 4;
+/// Rows of the probe's pipe (as a block of the lone-site probes).
+const LENGTH: usize = 9;
 /// Row of the lower rest particle (a falling particle reaches row 0 after
 /// [`STEPS`] steps, without wrapping).
 const Y0: usize = 4;
@@ -71,8 +73,8 @@ const Y0: usize = 4;
 fn params(base: &Params) -> Params {
     Params {
         width: 4,
-        length: super::conformance::BLOCK,
-        bin: super::conformance::BLOCK,
+        length: LENGTH,
+        bin: LENGTH,
         boundary: Boundary::Periodic,
         ..*base
     }

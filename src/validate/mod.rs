@@ -137,6 +137,16 @@ impl Size {
             hopper_runs: tier.pick(8, 16, 16),
         }
     }
+
+    /// These sizes with the counts given (`--trials`, `--runs`,
+    /// `--hopper-runs`) in place of their own.
+    pub fn with(self, trials: Option<usize>, runs: Option<usize>, hopper: Option<usize>) -> Self {
+        Size {
+            trials: trials.unwrap_or(self.trials),
+            runs: runs.unwrap_or(self.runs),
+            hopper_runs: hopper.unwrap_or(self.hopper_runs),
+        }
+    }
 }
 
 /// The whole validation report (report.json; report.md is its rendering).
