@@ -8,7 +8,7 @@
 
 use granular_automata::plot::{line_chart_at, register_fonts, Line, PALETTE};
 use granular_automata::validate::detect::{read_row, Row};
-use plotters::prelude::SeriesLabelPosition;
+use plotters::prelude::{RGBColor, SeriesLabelPosition};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
@@ -61,7 +61,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     .filter(|r| r.knob == *knob && r.factor > 1.0)
                     .map(|r| (e(r), r.failed as f64 / r.total as f64))
                     .collect();
-                Line::new(knob, pts, PALETTE[k % PALETTE.len()])
+                // the palette's six colours, then grey: every knob its own
+                let grey = RGBColor(120, 120, 120);
+                Line::new(knob, pts, *PALETTE.get(k).unwrap_or(&grey))
             })
             .collect();
         let title = format!("validate level {level}, {tier} tier: detection rate (20 validations)");
