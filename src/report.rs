@@ -25,7 +25,7 @@ use std::time::Instant;
 const CARGO_TOML: &str = include_str!("../Cargo.toml");
 
 /// Binaries that are not figures (no `summary.json` of a figure): never run.
-const NOT_FIGURES: [&str; 8] = [
+const NOT_FIGURES: [&str; 9] = [
     "acceptance",
     "bench",
     "explore",
@@ -33,6 +33,7 @@ const NOT_FIGURES: [&str; 8] = [
     "report",
     "speed-accuracy",
     "validate",
+    "validate-detection",
     "validate-example",
 ];
 
