@@ -19,7 +19,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .unwrap_or_else(|| "docs/validate-detection".into()),
     );
     let mut rows = Vec::new();
-    for entry in std::fs::read_dir(&dir)? {
+    let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for entry in entries {
         let path = entry?.path();
         if path.extension().is_some_and(|x| x == "csv") {
             if let Some(r) = read_row(&std::fs::read_to_string(&path)?) {

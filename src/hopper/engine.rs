@@ -110,6 +110,18 @@ pub trait HopperBuilder: Sync + Send {
     fn build(&self, params: HopperParams, seed: u64) -> Result<Box<dyn HopperEngine>>;
 }
 
+/// A value [`HopperEngine::set_site`] accepts: a hole or a grain.
+pub fn check_value(value: u8) -> Result<()> {
+    if value == super::model::WALL || value as usize > super::energy::STATES {
+        return Err(Error::out_of_range(
+            "site value",
+            value,
+            "0 (hole) or a grain 1..=21",
+        ));
+    }
+    Ok(())
+}
+
 fn check_site(h: &Hopper, i: usize) -> Result<()> {
     use super::geometry::SiteKind;
     let n = h.sites().len();
@@ -162,13 +174,7 @@ impl HopperEngine for Hopper {
     }
     fn set_site(&mut self, i: usize, value: u8) -> Result<()> {
         check_site(self, i)?;
-        if value == super::model::WALL || value as usize > super::energy::STATES {
-            return Err(Error::out_of_range(
-                "site value",
-                value,
-                "0 (hole) or a grain 1..=21",
-            ));
-        }
+        check_value(value)?;
         Hopper::set_site(self, i, value);
         Ok(())
     }

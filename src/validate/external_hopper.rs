@@ -472,13 +472,7 @@ impl HopperEngine for Proxy {
     }
     fn set_site(&mut self, i: usize, value: u8) -> Result<()> {
         self.inside(i)?;
-        if value == WALL || value as usize > crate::hopper::energy::STATES {
-            return Err(Error::out_of_range(
-                "site value",
-                value,
-                "0 (hole) or a grain 1..=21",
-            ));
-        }
+        crate::hopper::engine::check_value(value)?;
         // as the reference: a grain set counts as added, one removed as not
         if is_grain(self.state.sites[i]) {
             self.added = self.added.saturating_sub(1);

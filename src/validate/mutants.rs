@@ -222,6 +222,11 @@ impl EngineBuilder for Mutant {
             }
             _ => {}
         }
+        if *self == Mutant::LanesSharedByPairs {
+            let fast = FastPipe::new(params, rules, seed)?;
+            let rng = PairedLanes(Xoshiro256PlusPlus::seed_from_u64(seed ^ 0x9A1B));
+            return Ok(Box::new(fast.with_rng(rng)));
+        }
         let mut pipe = Pipe::new(params, rules, seed)?;
         match self {
             Mutant::R1SameSide | Mutant::ExtrasDropped => {
@@ -242,11 +247,6 @@ impl EngineBuilder for Mutant {
             Mutant::BiasedStream => {
                 let draws = TopBitLost(Xoshiro256PlusPlus::seed_from_u64(seed ^ 0xB1A5));
                 Ok(Box::new(pipe.with_draws(draws)))
-            }
-            Mutant::LanesSharedByPairs => {
-                let fast = FastPipe::new(params, rules, seed)?;
-                let rng = PairedLanes(Xoshiro256PlusPlus::seed_from_u64(seed ^ 0x9A1B));
-                Ok(Box::new(fast.with_rng(rng)))
             }
             Mutant::DrawsRepeatEachStep => Ok(Box::new(RepeatEachStep {
                 pipe,
