@@ -370,7 +370,8 @@ impl Check {
             (Some(Claim::Above { threshold }), _) => format!("> {threshold:.4}"),
             (Some(Claim::Below { threshold }), _) => format!("< {threshold:.4}"),
             (None, Some(p)) => format!("{p:.4}"),
-            (None, None) => "(none)".to_string(),
+            // no number to compare: the claim is the one its source states
+            (None, None) => format!("as stated in \"{}\":", self.source),
         };
         format!(
             "[{}] {} ({}): measured {} ({} runs), claim {} {}",
@@ -846,6 +847,25 @@ mod tests {
             "",
         );
         assert!(some.line().contains("1.0000 +- 0.0100 (4 runs)"));
+        // a check graded elsewhere (pipe-matrix) has no number to print:
+        // its line names the claim as its source states it
+        let graded = Check::with_verdict(
+            "default.x",
+            Kind::Published,
+            "PH94 Fig. 1b: no waves at p = 0",
+            0.9,
+            0.07,
+            3,
+            Verdict::Reproduced,
+            "s_low = 0.9",
+        );
+        assert!(
+            graded
+                .line()
+                .contains("claim as stated in \"PH94 Fig. 1b: no waves at p = 0\": s_low"),
+            "{}",
+            graded.line()
+        );
     }
 
     #[test]

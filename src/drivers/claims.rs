@@ -58,6 +58,10 @@ pub struct Graded {
     pub verdict: Verdict,
     /// What was measured, in words and numbers.
     pub detail: String,
+    /// Runs behind the value: the run count of the claim's group
+    /// ([`Group::runs`]); 0 in rows saved before it was recorded.
+    #[serde(default)]
+    pub runs: usize,
 }
 
 /// The claims, with what each id means: the published value, the
@@ -445,6 +449,7 @@ fn from_checks(claim: &str, checks: &[Check]) -> Graded {
         measured: shown.measured,
         error: shown.error,
         verdict: v,
+        runs: 0,
         detail: checks
             .iter()
             .map(|c| {
@@ -489,6 +494,7 @@ pub fn grade_groups(
 ) -> Result<Vec<Graded>> {
     let mut out = Vec::new();
     for group in Group::ALL.into_iter().filter(|g| groups.contains(g)) {
+        let start = out.len();
         let g = Grader {
             model: Model {
                 rules,
@@ -511,6 +517,9 @@ pub fn grade_groups(
             Group::Fig12 => g.fig12(&mut out)?,
             Group::Dependence => g.dependence(&mut out)?,
             Group::Headline => g.headline(&mut out)?,
+        }
+        for graded in &mut out[start..] {
+            graded.runs = g.seeds.len();
         }
     }
     Ok(out)
@@ -539,6 +548,7 @@ fn graded(claim: &str, m: f64, e: f64, v: Verdict, d: String) -> Graded {
         error: e,
         verdict: v,
         detail: d,
+        runs: 0,
     }
 }
 

@@ -269,7 +269,8 @@ pub fn heat_map(out: &Output, rows: &[Row], tier: Tier, runs: usize) -> Result<(
 
 /// The default reading's grades as the summary's checks (none when the
 /// default is not among the readings), and the count of claims it
-/// reproduces (NaN then).
+/// reproduces (NaN then). Each check carries its group's run count; `runs`
+/// stands in only for rows saved before that count was recorded.
 pub fn default_checks(rows: &[Row], runs: usize) -> (Vec<Check>, f64) {
     let default = Rules::default();
     let defaults = || rows.iter().filter(|(r, _)| *r == default);
@@ -289,7 +290,7 @@ pub fn default_checks(rows: &[Row], runs: usize) -> (Vec<Check>, f64) {
                 source,
                 g.measured,
                 g.error,
-                runs,
+                if g.runs > 0 { g.runs } else { runs },
                 g.verdict,
                 &g.detail,
             )
@@ -316,4 +317,32 @@ pub fn add_cells(summary_path: &Path, rows: &[Row]) -> Result<()> {
     summary["matrix"] = json!(matrix);
     let text = serde_json::to_string_pretty(&summary).map_err(json_error(summary_path))?;
     write_atomic(summary_path, text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each default check carries its own group's run count (a relaxation
+    /// claim runs 16 at the quick tier, a band claim 3); a row saved before
+    /// the count was recorded falls back to the matrix's `runs`.
+    #[test]
+    fn default_checks_carry_their_groups_run_count() {
+        let g = |claim: &str, runs| Graded {
+            claim: claim.to_string(),
+            measured: 1.0,
+            error: 0.1,
+            verdict: Verdict::Undecided,
+            detail: String::new(),
+            runs,
+        };
+        let rows = vec![(
+            Rules::default(),
+            vec![g("energy_rises", 16), g("waves_1a", 0)],
+        )];
+        let (checks, _) = default_checks(&rows, 3);
+        assert_eq!(checks[0].name, "default.energy_rises");
+        assert_eq!(checks[0].runs, 16);
+        assert_eq!(checks[1].runs, 3);
+    }
 }
