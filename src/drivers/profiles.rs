@@ -17,7 +17,7 @@ use crate::pipe::overlap::{
     ProfileRun, SpeedRun, FIG4_BIN, FIG5_MAX_LAG, PROFILE_MEASURES, SPEED_MARGIN,
 };
 use crate::pipe::{Params, Rules};
-use crate::plot::{line_chart, mean_se_lines, points, Line, PALETTE};
+use crate::plot::{errorbar_chart, line_chart, mean_se_lines, points, ErrSeries, Line, PALETTE};
 use crate::run::{difference, mean_sem_at, mean_sem_by, median, metrics_of, stat_metrics};
 use crate::run::{stats_by, Check, Figure, Output};
 use std::collections::BTreeMap;
@@ -130,9 +130,9 @@ pub fn draw_fig4(
     for (k, (params, res)) in per_l.iter().enumerate() {
         let l = params.length;
         let st = stats_by(res, &PROFILE_MEASURES);
-        let shape = [st["amplitude"].0, st["width"].0, st["asymmetry"].0];
-        for (pts, y) in shape_pts.iter_mut().zip(shape) {
-            pts.push((l as f64, y));
+        let shape = [st["amplitude"], st["width"], st["asymmetry"]];
+        for (pts, (y, se)) in shape_pts.iter_mut().zip(shape) {
+            pts.push((l as f64, y, se));
         }
         let pts = ensemble_profile(res, FIG4_BIN);
         rows.extend(pts.iter().map(|&(x, y)| vec![l as f64, x, y]));
@@ -172,18 +172,23 @@ pub fn draw_fig4(
         false,
     )?;
     let [amp, width, asym] = shape_pts;
-    let x100 = |v: Vec<(f64, f64)>| v.into_iter().map(|(x, y)| (x, 100.0 * y)).collect();
-    line_chart(
+    let x100 = |v: Vec<(f64, f64, f64)>| {
+        v.into_iter()
+            .map(|(x, y, se)| (x, 100.0 * y, 100.0 * se))
+            .collect()
+    };
+    // means over runs with one standard error: the asymmetry's sign is
+    // within its error bar at every L (EXPERIMENTS.md, waves-fig4)
+    errorbar_chart(
         &out.path("fig4_shape.png"),
-        &format!("PH95 Fig. 4: wave shape against L, p = {p}, {runs} runs"),
+        &format!("PH95 Fig. 4: wave shape against L, p = {p}, mean of {runs} runs +- 1 SE"),
         "pipe length L (rows)",
         "amplitude (x100), width (rows), asymmetry (x100)",
         &[
-            Line::new("amplitude (max - mean) / mean x 100", x100(amp), PALETTE[0]).markers(),
-            Line::new("width at half excess (rows)", width, PALETTE[1]).markers(),
-            Line::new("asymmetry x 100 (> 0: steep front)", x100(asym), PALETTE[2]).markers(),
+            ErrSeries::new("amplitude (max - mean) / mean x 100", x100(amp), PALETTE[0]),
+            ErrSeries::new("width at half excess (rows)", width, PALETTE[1]),
+            ErrSeries::new("asymmetry x 100 (> 0: steep front)", x100(asym), PALETTE[2]),
         ],
-        false,
     )
 }
 
