@@ -1,13 +1,14 @@
 //! The studies behind `--tier acceptance` (issue 29): `pilot` compares the
 //! candidate estimators and measures the spread over the papers' open
 //! choices on pilot seeds; `stability` reads the summaries of acceptance runs
-//! over many base seeds and tabulates each check's verdicts and coverage.
+//! over many base seeds and tabulates each check's verdicts and coverage;
+//! `power` reads a pilot's summary and gives the runs that decide each check.
 //!
 //! `cargo run --release --bin acceptance -- pilot --figure fig2 --tier paper --seed 9001 --runs 384`
 
 use clap::{Parser, Subcommand};
 use granular_automata::cli::Common;
-use granular_automata::drivers::acceptance_study::{pilot_study, stability};
+use granular_automata::drivers::acceptance_study::{pilot_study, power, stability};
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -50,6 +51,14 @@ enum What {
         #[arg(long)]
         figure: String,
     },
+    /// The runs that would decide each published check of a pilot's
+    /// `summary.json` (a figure run with few runs per point on pilot
+    /// seeds), and the run count per point the committed rule picks.
+    Power {
+        /// The pilot's summary.json.
+        #[arg(long)]
+        summary: PathBuf,
+    },
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -61,6 +70,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             common,
         } => pilot_study(&common, &figure, group, open_runs)?,
         What::Stability { from, figure } => print!("{}", stability(&from, &figure)?),
+        What::Power { summary } => print!("{}", power(&summary)?.0),
     }
     Ok(())
 }

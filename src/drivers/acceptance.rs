@@ -328,11 +328,21 @@ pub fn fig8_margin(alpha: bool, p: f64) -> Option<Margin> {
     })
 }
 
+/// Runs per point of PH95 Figs. 9 and 10 at the acceptance tier (session
+/// 21): the count that [`super::acceptance_study::power`]'s rule picks from
+/// the pilot (16 runs per point, base seed 9001, fast engine; EXPERIMENTS.md
+/// "Figs. 9-10 run count"). The pilot predicts 12 of Fig. 9's 15 and 20 of
+/// Fig. 10's 30 published checks decided at 128 (10 and 12 at 32); the
+/// others need 145 to millions of runs, or sit on their claim's edge.
+pub const FIG9_10_RUNS: usize = 128;
+
 /// Runs per point of sweep figure `binary` at the acceptance tier: waves-fig8
-/// [`FIG8_RUNS`], the others the paper tier's 32.
+/// [`FIG8_RUNS`], waves-fig9 and waves-fig10 [`FIG9_10_RUNS`], the others
+/// the paper tier's 32.
 pub fn sweep_runs(binary: &str) -> usize {
     match binary {
         "waves-fig8" => FIG8_RUNS,
+        "waves-fig9" | "waves-fig10" => FIG9_10_RUNS,
         _ => 32,
     }
 }

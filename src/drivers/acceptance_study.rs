@@ -229,6 +229,94 @@ pub fn runs_to_decide(d: f64, delta: f64, sigma: f64) -> Option<f64> {
     (gap > 0.0).then(|| ((2.0 + 1.645) * sigma / gap).powi(2))
 }
 
+/// The run counts [`power`] weighs: the paper tier's 32, and the doublings
+/// up to Fig. 8's affordable 128 (about 1 h wall for PH95 Figs. 9 and 10
+/// together on 2 cores).
+pub const POWER_COUNTS: [usize; 3] = [32, 64, 128];
+
+/// The distance of a check's value `x` from the edge of its claim: the
+/// statistic's gap that k SE must clear to decide it.
+fn gap_to_edge(x: f64, claim: crate::analysis::grading::Claim) -> f64 {
+    use crate::analysis::grading::Claim;
+    match claim {
+        Claim::Within { target, margin } => (x - target).abs() - margin,
+        Claim::Above { threshold } | Claim::Below { threshold } => x - threshold,
+    }
+}
+
+/// The power of a pilot (issue 29, item 4): from a pilot's `summary.json`
+/// (a figure run with few runs per point on pilot seeds), for each published
+/// check with a value, an SE and at least 3 runs, its spread per run
+/// (SE x sqrt(runs)) and the runs per point that decide it in 95 % of seed
+/// sets ([`runs_to_decide`], scaled by the point's share of valid runs when
+/// the summary lists its seeds); then, for each count of [`POWER_COUNTS`], how many
+/// checks it is predicted to decide. The rule that picks a figure's count
+/// from this table, fixed before the pilot of Figs. 9-10 was read (session
+/// 21): the smallest count of [`POWER_COUNTS`] that is predicted to decide
+/// as many checks as the largest one.
+///
+/// Errors: an unreadable or malformed summary ([`crate::ErrorKind::Io`],
+/// [`crate::ErrorKind::BadSeries`]).
+pub fn power(summary: &std::path::Path) -> Result<(String, usize)> {
+    use crate::analysis::grading::Claim;
+    use crate::error::{Error, ErrorKind};
+    let text = std::fs::read_to_string(summary)
+        .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", summary.display())))?;
+    let s: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| Error::new(ErrorKind::BadSeries, format!("{}: {e}", summary.display())))?;
+    let mut out = format!(
+        "{}: power of the pilot {}\n\n| check | runs | value | SE | claim | spread per run | runs to decide |\n|---|---|---|---|---|---|---|\n",
+        s["figure"].as_str().unwrap_or("?"),
+        summary.display()
+    );
+    let total = s["seeds"].as_array().map(|a| a.len()).filter(|&t| t >= 3);
+    let mut need = Vec::new();
+    for c in s["checks"].as_array().into_iter().flatten() {
+        let (Some(x), Some(se), Some(n)) = (
+            c["measured"].as_f64(),
+            c["error"].as_f64(),
+            c["runs"].as_u64(),
+        ) else {
+            continue;
+        };
+        let Ok(claim) = serde_json::from_value::<Claim>(c["claim"].clone()) else {
+            continue;
+        };
+        if c["kind"] != "published" || n < 3 || !x.is_finite() || !se.is_finite() {
+            continue;
+        }
+        let sigma = se * (n as f64).sqrt();
+        // a point where some runs left the model's validity keeps n of its
+        // `total` runs: the count per point needed is larger by total / n
+        let share = total.map_or(1.0, |t| t as f64 / n as f64).max(1.0);
+        let runs = runs_to_decide(gap_to_edge(x, claim), 0.0, sigma).map(|r| (r * share).ceil());
+        need.push(runs);
+        out.push_str(&format!(
+            "| {} | {n} | {x:.4} | {se:.4} | {} | {sigma:.4} | {} |\n",
+            c["name"].as_str().unwrap_or("?"),
+            claim.describe(),
+            runs.map_or("never (on the edge)".to_string(), |r| format!("{r}"))
+        ));
+    }
+    let decided = |count: usize| {
+        need.iter()
+            .flatten()
+            .filter(|&&r| r <= count as f64)
+            .count()
+    };
+    let best = decided(*POWER_COUNTS.last().expect("non-empty"));
+    let pick = *POWER_COUNTS
+        .iter()
+        .find(|&&c| decided(c) == best)
+        .expect("the last one qualifies");
+    out.push_str(&format!("\n{} published checks with a value.\n\n| runs per point | predicted decided |\n|---|---|\n", need.len()));
+    for c in POWER_COUNTS {
+        out.push_str(&format!("| {c} | {} |\n", decided(c)));
+    }
+    out.push_str(&format!("\nThe rule's count: {pick} runs per point.\n"));
+    Ok((out, pick))
+}
+
 /// The verdicts of every check of `figure` over the base seeds whose
 /// summaries lie in `from/<seed folder>/<figure>/summary.json`: a Markdown
 /// table with, per check, the seeds, the verdict counts, the share of the
@@ -710,6 +798,34 @@ mod tests {
             "{t}"
         );
         assert!(stability(&dir, "nothing").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn power_picks_the_smallest_count_that_decides_what_the_largest_does() {
+        let dir = std::env::temp_dir().join(format!("ga-power-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("summary.json");
+        let within = serde_json::json!({"test": "within", "target": 0.0, "margin": 0.1});
+        let above = serde_json::json!({"test": "above", "threshold": 0.0});
+        let check = |name: &str, x: f64, se: f64, claim: &serde_json::Value| serde_json::json!({"name": name, "kind": "published", "measured": x, "error": se, "runs": 16, "claim": claim});
+        // spread per run 0.4: 0.3 from the edge decides at (3.645 x 0.4 / 0.3)^2 = 24 runs,
+        // 0.2 at 54, 0.12 at 148 (beyond 128); a pinned check is not counted
+        let s = serde_json::json!({"figure": "waves-fig9", "checks": [
+            check("a", 0.4, 0.1, &within),
+            check("b", 0.2, 0.1, &above),
+            check("c", 0.22, 0.1, &within),
+            {"name": "d", "kind": "pinned", "measured": 1.0, "error": 0.1, "runs": 16, "claim": above},
+        ]});
+        std::fs::write(&path, s.to_string()).unwrap();
+        let (table, pick) = power(&path).unwrap();
+        assert_eq!(pick, 64, "{table}");
+        assert!(
+            table.contains("| 32 | 1 |\n| 64 | 2 |\n| 128 | 2 |"),
+            "{table}"
+        );
+        assert!(table.contains("3 published checks"), "{table}");
+        assert!(power(&dir.join("none.json")).is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
