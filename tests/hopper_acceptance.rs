@@ -76,6 +76,15 @@ fn flat(recs: &[Record]) -> (bool, f64, f64) {
     )
 }
 
+/// The outflow of `recs` (`what`: its case) has [`no_trend`] and is
+/// [`flat`] (BB90 Fig. 3).
+fn steady_and_white(recs: &[Record], what: &str) {
+    let (ok, z) = no_trend(recs);
+    assert!(ok, "{what} trend z = {z}");
+    let (ok, s, e) = flat(recs);
+    assert!(ok, "{what} spectral slope {s} +- {e}");
+}
+
 #[test]
 fn beta0_flows_through_a_central_core_and_stays_structureless() {
     let p = params(0.0, Aligned::AlongVelocity);
@@ -95,10 +104,7 @@ fn beta0_flows_through_a_central_core_and_stays_structureless() {
     // random orientations: 1/3 within 0.03 (spread over seeds ~0.005)
     let o = order_half_empty(&recs);
     assert!((o - 1.0 / 3.0).abs() < 0.03, "order {o}");
-    let (ok, z) = no_trend(&recs);
-    assert!(ok, "beta = 0 trend z = {z}");
-    let (ok, s, e) = flat(&recs);
-    assert!(ok, "beta = 0 spectral slope {s} +- {e}");
+    steady_and_white(&recs, "beta = 0");
 }
 
 #[test]
@@ -116,10 +122,7 @@ fn beta1_empties_orders_and_has_white_outflow() {
     // through a core (the literal reading empties by sliding blocks whose
     // rate drifts; EXPERIMENTS.md)
     let recs = ensemble_of(params(1.0, Aligned::SameOrientation), RUNS);
-    let (ok, z) = no_trend(&recs);
-    assert!(ok, "beta = 1 trend z = {z}");
-    let (ok, s, e) = flat(&recs);
-    assert!(ok, "beta = 1 spectral slope {s} +- {e}");
+    steady_and_white(&recs, "beta = 1");
 }
 
 #[test]

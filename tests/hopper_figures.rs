@@ -60,21 +60,34 @@ fn metric(v: &serde_json::Value, name: &str) -> f64 {
         .unwrap_or_else(|| panic!("metric {name} missing"))
 }
 
+/// The cases of both hopper figures' default `--cases`.
+const CASES: [&str; 4] = ["beta0", "beta1_bond", "beta1_along", "beta1_same"];
+
+/// Every case of [`CASES`] has each metric of `names` (`<case>_<name>`).
+fn has_metrics(v: &serde_json::Value, names: &[&str]) {
+    for case in CASES {
+        for m in names {
+            metric(v, &format!("{case}_{m}"));
+        }
+    }
+}
+
 #[test]
 fn hopper_fig2_writes_its_figure_and_metrics() {
     let v = run("hopper-fig2", env!("CARGO_BIN_EXE_hopper-fig2"));
     assert_eq!(v["paper"], "BB90 Fig. 2");
-    for case in ["beta0", "beta1_bond", "beta1_along", "beta1_same"] {
-        for m in [
+    has_metrics(
+        &v,
+        &[
             "core_width_low",
             "core_width_high",
             "occupancy_core",
             "occupancy_sides",
             "order_half_empty",
             "g8_half_empty",
-        ] {
-            metric(&v, &format!("{case}_{m}"));
-        }
+        ],
+    );
+    for case in CASES {
         assert_eq!(
             metric(&v, &format!("{case}_remaining_grains")),
             0.0,
@@ -115,17 +128,18 @@ fn hopper_fig3_writes_its_figure_and_metrics() {
         "beta1_bond",
         "the default reading first"
     );
-    for case in ["beta0", "beta1_bond", "beta1_along", "beta1_same"] {
-        for m in [
+    has_metrics(
+        &v,
+        &[
             "mean_rate",
             "sd_rate",
             "rate_first_half",
             "rate_second_half",
             "spectral_slope",
             "spectral_slope_err",
-        ] {
-            metric(&v, &format!("{case}_{m}"));
-        }
+        ],
+    );
+    for case in CASES {
         let rate = metric(&v, &format!("{case}_mean_rate"));
         assert!(rate > 1.0 && rate < 3.0, "{case}: rate {rate}");
     }

@@ -49,26 +49,22 @@ fn fig2_alpha_and_peak_velocity_agree_with_ph94_and_wrong_readings_fail() {
         metric(s, "j_peak")
     );
 
-    // The wrong readings fail by a wide margin already at the quick tier.
-    // The literal [PH95] gravity wording: its peak sits at v = 0.43.
-    let mut args = QUICK.to_vec();
-    args.extend(["--rules", "any-mover"]);
-    let w = run("fig2", fig2, &args, "any-mover");
-    assert!(
-        contradicted(&w, "v_peak"),
-        "any-mover v_peak = {} must fail",
-        metric(&w, "v_peak")
-    );
-
-    // Wall drag with gravity first: alpha about 0.9.
-    let mut args = QUICK.to_vec();
-    args.extend(["--rules", "ph94+wall-drag+gravity-first"]);
-    let w = run("fig2", fig2, &args, "wall-drag");
-    assert!(
-        contradicted(&w, "alpha"),
-        "wall-drag+gravity-first alpha = {} must fail",
-        metric(&w, "alpha")
-    );
+    // The wrong readings fail by a wide margin already at the quick tier:
+    // the literal [PH95] gravity wording (its peak sits at v = 0.43), and
+    // wall drag with gravity first (alpha about 0.9).
+    for (rules, tag, fails) in [
+        ("any-mover", "any-mover", "v_peak"),
+        ("ph94+wall-drag+gravity-first", "wall-drag", "alpha"),
+    ] {
+        let mut args = QUICK.to_vec();
+        args.extend(["--rules", rules]);
+        let w = run("fig2", fig2, &args, tag);
+        assert!(
+            contradicted(&w, fails),
+            "{rules} {fails} = {} must fail",
+            metric(&w, fails)
+        );
+    }
 }
 
 /// PH94 Fig. 2's alpha at 16 paper runs (about 4 minutes on 2 cores; run

@@ -758,39 +758,28 @@ mod tests {
 
     #[test]
     fn walls_reflect_specularly_at_b0_and_bounce_back_at_b1() {
-        for (b, expect_left, expect_right) in [(0.0, [6, 5], [2, 3]), (1.0, [5, 6], [3, 2])] {
-            for (k, c) in [2usize, 3].into_iter().enumerate() {
-                let p = Params {
-                    g: 0.0,
-                    b,
-                    ..tiny(3, 4)
-                };
-                let mut pipe = Pipe::new(p, Rules::MODEL_MD, 1).unwrap();
-                (0..3).for_each(|x| (0..4).for_each(|y| pipe.set_site(x, y, 0)));
-                pipe.set_site(0, 1, bit(c));
-                pipe.step().unwrap();
-                assert_eq!(
-                    pipe.site(0, 1),
-                    bit(expect_left[k]),
-                    "left wall b {b} c {c}"
-                );
-            }
-            for (k, c) in [6usize, 5].into_iter().enumerate() {
-                let p = Params {
-                    g: 0.0,
-                    b,
-                    ..tiny(3, 4)
-                };
-                let mut pipe = Pipe::new(p, Rules::MODEL_MD, 1).unwrap();
-                (0..3).for_each(|x| (0..4).for_each(|y| pipe.set_site(x, y, 0)));
-                pipe.set_site(2, 1, bit(c));
-                pipe.step().unwrap();
-                assert_eq!(
-                    pipe.site(2, 1),
-                    bit(expect_right[k]),
-                    "right wall b {b} c {c}"
-                );
-            }
+        // (b, wall column x, channel heading into the wall, channel after)
+        let cases = [
+            (0.0, 0, 2, 6),
+            (0.0, 0, 3, 5),
+            (0.0, 2, 6, 2),
+            (0.0, 2, 5, 3),
+            (1.0, 0, 2, 5),
+            (1.0, 0, 3, 6),
+            (1.0, 2, 6, 3),
+            (1.0, 2, 5, 2),
+        ];
+        for (b, x, c, expect) in cases {
+            let p = Params {
+                g: 0.0,
+                b,
+                ..tiny(3, 4)
+            };
+            let mut pipe = Pipe::new(p, Rules::MODEL_MD, 1).unwrap();
+            (0..3).for_each(|x| (0..4).for_each(|y| pipe.set_site(x, y, 0)));
+            pipe.set_site(x, 1, bit(c));
+            pipe.step().unwrap();
+            assert_eq!(pipe.site(x, 1), bit(expect), "wall x {x} b {b} c {c}");
         }
     }
 

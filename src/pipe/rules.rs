@@ -246,44 +246,65 @@ pub const RULE_NAMES: [(&str, &str); 15] = [
     ),
 ];
 
-impl fmt::Display for Rules {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut parts = vec![match self.gravity {
+impl GravityWording {
+    /// Every wording (a reading names at most one).
+    const ALL: [GravityWording; 4] = [
+        GravityWording::Ph94,
+        GravityWording::AnyMover,
+        GravityWording::UpToRest,
+        GravityWording::RestAhead,
+    ];
+
+    /// The wording's name in a reading.
+    fn name(self) -> &'static str {
+        match self {
             GravityWording::Ph94 => "ph94",
             GravityWording::AnyMover => "any-mover",
             GravityWording::UpToRest => "up-to-rest",
             GravityWording::RestAhead => "rest-ahead",
-        }];
-        if self.wall_drag {
-            parts.push("wall-drag");
         }
-        if self.gravity_first {
-            parts.push("gravity-first");
-        }
-        if self.rest == RestPlacement::RestUp {
-            parts.push("rest-up");
-        }
-        if self.wall_move {
-            parts.push("wall-move");
-        }
-        if self.rest_slide {
-            parts.push("rest-slide");
-        }
-        if self.gravity_last {
-            parts.push("gravity-last");
-        }
-        if self.fhp_rest {
-            parts.push("fhp-rest");
-        }
-        if self.inject_down {
-            parts.push("inject-down");
-        }
-        if self.inject_late {
-            parts.push("inject-late");
-        }
-        if self.lane_collide {
-            parts.push("lane-collide");
-        }
+    }
+}
+
+/// A switch of a reading beside its gravity wording: its name, whether a
+/// reading has it on, and how to turn it on.
+type Switch = (&'static str, fn(&Rules) -> bool, fn(&mut Rules));
+
+/// Every switch, in the order a reading's name lists them
+/// (`ph94+wall-drag+gravity-first`, never the other way round).
+const SWITCHES: [Switch; 10] = [
+    ("wall-drag", |r| r.wall_drag, |r| r.wall_drag = true),
+    (
+        "gravity-first",
+        |r| r.gravity_first,
+        |r| r.gravity_first = true,
+    ),
+    (
+        "rest-up",
+        |r| r.rest == RestPlacement::RestUp,
+        |r| r.rest = RestPlacement::RestUp,
+    ),
+    ("wall-move", |r| r.wall_move, |r| r.wall_move = true),
+    ("rest-slide", |r| r.rest_slide, |r| r.rest_slide = true),
+    (
+        "gravity-last",
+        |r| r.gravity_last,
+        |r| r.gravity_last = true,
+    ),
+    ("fhp-rest", |r| r.fhp_rest, |r| r.fhp_rest = true),
+    ("inject-down", |r| r.inject_down, |r| r.inject_down = true),
+    ("inject-late", |r| r.inject_late, |r| r.inject_late = true),
+    (
+        "lane-collide",
+        |r| r.lane_collide,
+        |r| r.lane_collide = true,
+    ),
+];
+
+impl fmt::Display for Rules {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut parts = vec![self.gravity.name()];
+        parts.extend(SWITCHES.iter().filter(|s| (s.1)(self)).map(|s| s.0));
         write!(f, "{}", parts.join("+"))
     }
 }
@@ -295,68 +316,26 @@ impl FromStr for Rules {
         let mut r = Rules::MODEL_MD;
         let mut gravity_named = false;
         for part in s.split('+').map(str::trim) {
-            let g = match part {
-                "default" => {
-                    let d = Rules::default();
-                    r.gravity_first |= d.gravity_first;
-                    r.wall_move |= d.wall_move;
-                    r.inject_late |= d.inject_late;
-                    Some(d.gravity)
-                }
-                "ph94" => Some(GravityWording::Ph94),
-                "any-mover" => Some(GravityWording::AnyMover),
-                "up-to-rest" => Some(GravityWording::UpToRest),
-                "rest-ahead" => Some(GravityWording::RestAhead),
-                "wall-drag" => {
-                    r.wall_drag = true;
-                    None
-                }
-                "gravity-first" => {
-                    r.gravity_first = true;
-                    None
-                }
-                "rest-up" => {
-                    r.rest = RestPlacement::RestUp;
-                    None
-                }
-                "wall-move" => {
-                    r.wall_move = true;
-                    None
-                }
-                "rest-slide" => {
-                    r.rest_slide = true;
-                    None
-                }
-                "gravity-last" => {
-                    r.gravity_last = true;
-                    None
-                }
-                "fhp-rest" => {
-                    r.fhp_rest = true;
-                    None
-                }
-                "inject-down" => {
-                    r.inject_down = true;
-                    None
-                }
-                "inject-late" => {
-                    r.inject_late = true;
-                    None
-                }
-                "lane-collide" => {
-                    r.lane_collide = true;
-                    None
-                }
-                other => {
-                    let known: Vec<&str> = RULE_NAMES.iter().map(|n| n.0).collect();
-                    return Err(Error::new(
-                        ErrorKind::InvalidParameter,
-                        format!(
-                            "rules: unknown name '{other}' in '{s}'; use names from {{{}}} joined by '+'",
-                            known.join(", ")
-                        ),
-                    ));
-                }
+            let g = if part == "default" {
+                let d = Rules::default();
+                r.gravity_first |= d.gravity_first;
+                r.wall_move |= d.wall_move;
+                r.inject_late |= d.inject_late;
+                Some(d.gravity)
+            } else if let Some(&g) = GravityWording::ALL.iter().find(|g| g.name() == part) {
+                Some(g)
+            } else if let Some(switch) = SWITCHES.iter().find(|sw| sw.0 == part) {
+                (switch.2)(&mut r);
+                None
+            } else {
+                let known: Vec<&str> = RULE_NAMES.iter().map(|n| n.0).collect();
+                return Err(Error::new(
+                    ErrorKind::InvalidParameter,
+                    format!(
+                        "rules: unknown name '{part}' in '{s}'; use names from {{{}}} joined by '+'",
+                        known.join(", ")
+                    ),
+                ));
             };
             if let Some(g) = g {
                 if gravity_named && g != r.gravity {
@@ -387,24 +366,20 @@ mod tests {
 
     #[test]
     fn every_combination_round_trips() {
-        for g in ["ph94", "any-mover", "up-to-rest", "rest-ahead"] {
-            for extra in [
-                "",
-                "+wall-drag",
-                "+gravity-first",
-                "+rest-up",
-                "+wall-move",
-                "+rest-slide",
-                "+gravity-last",
-                "+fhp-rest",
-                "+inject-down",
-                "+inject-late",
-                "+lane-collide",
-                "+fhp-rest+inject-late+lane-collide",
-                "+wall-drag+gravity-first+rest-up+wall-move+rest-slide+fhp-rest+inject-down",
-                "+wall-drag+rest-up+wall-move+rest-slide+gravity-last+fhp-rest+inject-late",
-                "+gravity-first+inject-down+inject-late",
-            ] {
+        let single = SWITCHES.iter().map(|s| format!("+{}", s.0));
+        let combined = [
+            "+fhp-rest+inject-late+lane-collide",
+            "+wall-drag+gravity-first+rest-up+wall-move+rest-slide+fhp-rest+inject-down",
+            "+wall-drag+rest-up+wall-move+rest-slide+gravity-last+fhp-rest+inject-late",
+            "+gravity-first+inject-down+inject-late",
+        ];
+        let extras: Vec<String> = std::iter::once(String::new())
+            .chain(single)
+            .chain(combined.map(String::from))
+            .collect();
+        assert_eq!(extras.len(), 15);
+        for g in GravityWording::ALL.map(GravityWording::name) {
+            for extra in &extras {
                 let s = format!("{g}{extra}");
                 let r: Rules = s.parse().unwrap();
                 assert_eq!(r.to_string(), s);
@@ -417,6 +392,10 @@ mod tests {
         for (name, _) in RULE_NAMES {
             assert!(name.parse::<Rules>().is_ok(), "{name}");
         }
+        assert_eq!(
+            RULE_NAMES.len(),
+            1 + GravityWording::ALL.len() + SWITCHES.len()
+        );
     }
 
     #[test]
