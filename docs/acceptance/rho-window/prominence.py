@@ -1,0 +1,37 @@
+#!/usr/bin/env python3
+"""Height of the wave peak of an averaged spectrum over its background, per rho.
+
+Reads the run files of a `waves-fig9 --out DIR` folder (DIR/waves-fig9/runs/*)
+and prints, per density: the valid runs, the bin j of the largest value of the
+averaged spectrum in 400 <= j < 1000 (the wave speeds 0.27-0.67 at the paper
+tier), its height over the background (the median of the bins 20-60 away on
+either side), and the quartiles of the per-run peak bins j_peak.
+Usage: prominence.py DIR
+"""
+import glob
+import json
+import sys
+
+rows = []
+for d in glob.glob(sys.argv[1] + "/waves-fig9/runs/*"):
+    rho = json.load(open(d + "/config.json"))["config"]["config"]["spectrum"]["params"]["rho"]
+    spectra, peaks = [], []
+    for f in sorted(glob.glob(d + "/run-*.json")):
+        r = json.load(open(f))["result"]
+        if "Valid" in r:
+            spectra.append(r["Valid"]["spectrum"])
+            peaks.append(r["Valid"]["j_peak"])
+    n = len(spectra)
+    if n == 0:
+        rows.append((rho, "| %.2f | 0 | | | |" % rho))
+        continue
+    mean = [sum(s[j] for s in spectra) / n for j in range(len(spectra[0]))]
+    jm = max(range(400, 1000), key=lambda j: mean[j])
+    background = sorted(mean[jm - 60 : jm - 20] + mean[jm + 20 : jm + 60])[40]
+    peaks.sort()
+    q = (peaks[n // 4], peaks[n // 2], peaks[(3 * n) // 4])
+    rows.append((rho, "| %.2f | %d | %d | %.2f | %d, %d, %d |" % ((rho, n, jm, mean[jm] / background) + q)))
+print("| rho | valid runs | peak bin of the averaged spectrum | height / background | per-run peak bin quartiles |")
+print("|---|---|---|---|---|")
+for _, line in sorted(rows):
+    print(line)
