@@ -318,7 +318,8 @@ pub fn power(summary: &std::path::Path) -> Result<(String, usize)> {
 }
 
 /// The verdicts of every check of `figure` over the base seeds whose
-/// summaries lie in `from/<seed folder>/<figure>/summary.json`: a Markdown
+/// summaries lie in `from/<seed folder>/<figure>/summary.json` (or
+/// `from/<seed folder>/summary.json`): a Markdown
 /// table with, per check, the seeds, the verdict counts, the share of the
 /// most common verdict, the mean value and mean SE, and the coverage of
 /// value +- 2 SE around the inverse-variance pooled value of all seeds.
@@ -330,8 +331,24 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
     use std::collections::BTreeMap;
     let mut dirs: Vec<_> = std::fs::read_dir(from)
         .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", from.display())))?
-        .filter_map(|e| e.ok().map(|e| e.path().join(figure).join("summary.json")))
-        .filter(|p| p.is_file())
+        .filter_map(|e| {
+            // a seed folder is the binary's --out (`<figure>/summary.json`
+            // inside) or that figure folder itself, whose summary must then
+            // name the figure
+            let seed = e.ok()?.path();
+            let nested = seed.join(figure).join("summary.json");
+            let flat = seed.join("summary.json");
+            if nested.is_file() {
+                Some(nested)
+            } else {
+                // an unreadable summary is kept, to be reported below
+                let text = std::fs::read_to_string(&flat).ok()?;
+                match serde_json::from_str::<serde_json::Value>(&text) {
+                    Ok(s) => (s["figure"] == figure).then_some(flat),
+                    Err(_) => Some(flat),
+                }
+            }
+        })
         .collect();
     dirs.sort();
     if dirs.is_empty() {
@@ -377,9 +394,16 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
             .iter()
             .filter(|r| r.1.is_finite() && r.2.is_finite() && r.2 >= 0.0)
             .collect();
-        let (mean, se, pooled, cover) = if ok.is_empty() {
-            (f64::NAN, f64::NAN, f64::NAN, f64::NAN)
-        } else {
+        if ok.is_empty() {
+            // no seed gave a value (e.g. a check over runs that none had):
+            // say so rather than print NaN
+            out.push_str(&format!(
+                "| {name} | {} | {yes} | {no} | {und} | {modal:.2} | n/a (no seed has a value) | | | |\n",
+                v.len()
+            ));
+            continue;
+        }
+        let (mean, se, pooled, cover) = {
             let k = ok.len() as f64;
             let mean = ok.iter().map(|r| r.1).sum::<f64>() / k;
             let pooled = if ok.iter().all(|r| r.2 > 0.0) {
@@ -408,6 +432,14 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
             continue;
         };
         let values: Vec<f64> = v.iter().map(|r| r.1).filter(|x| x.is_finite()).collect();
+        if values.is_empty() {
+            pooled.push_str(&format!(
+                "| {name} | 0 | n/a (no seed has a value) | {} +- {:.4} | undecided |\n",
+                m.published,
+                m.delta()
+            ));
+            continue;
+        }
         let est = Estimate::of(&values);
         let verdict = crate::analysis::grading::grade(est, m.claim());
         pooled.push_str(&format!(
@@ -779,25 +811,41 @@ mod tests {
         let write = |seed: u32, verdict: &str, x: f64| {
             let d = dir.join(format!("seed-{seed}")).join("fig2");
             std::fs::create_dir_all(&d).unwrap();
-            let s = serde_json::json!({"checks": [
+            let s = serde_json::json!({"figure": "fig2", "checks": [
                 {"name": "alpha", "verdict": verdict, "measured": x, "error": 0.01},
                 {"name": "line", "verdict": "reproduced", "measured": 0.5, "error": 0.0},
+                {"name": "wave_runs", "verdict": "undecided", "measured": null, "error": null},
             ]});
             std::fs::write(d.join("summary.json"), s.to_string()).unwrap();
         };
         write(1, "undecided", 1.265);
         write(2, "undecided", 1.27);
         write(3, "reproduced", 1.315);
+        // a seed folder holding the summary itself counts as well
+        std::fs::create_dir_all(dir.join("seed-4")).unwrap();
+        std::fs::copy(
+            dir.join("seed-2/fig2/summary.json"),
+            dir.join("seed-4/summary.json"),
+        )
+        .unwrap();
+        std::fs::create_dir_all(dir.join("empty")).unwrap();
         let t = stability(&dir, "fig2").unwrap();
-        assert!(t.contains("3 base seeds"), "{t}");
-        assert!(t.contains("| alpha | 3 | 1 | 0 | 2 | 0.67 |"), "{t}");
-        // 1.315 lies more than 2 SE from the pooled 1.283: coverage 2 of 3
-        assert!(t.contains("| 0.67 |\n"), "{t}");
+        assert!(t.contains("4 base seeds"), "{t}");
+        assert!(t.contains("| alpha | 4 | 1 | 0 | 3 | 0.75 |"), "{t}");
+        // 1.315 lies more than 2 SE from the pooled 1.280: coverage 3 of 4
+        assert!(t.contains("| 0.75 |\n"), "{t}");
         assert!(
-            t.contains("| line | 3 | 3 | 0 | 0 | 1.00 | 0.5000 | 0.0000 | 0.5000 | 1.00 |"),
+            t.contains("| line | 4 | 4 | 0 | 0 | 1.00 | 0.5000 | 0.0000 | 0.5000 | 1.00 |"),
             "{t}"
         );
+        assert!(
+            t.contains("| wave_runs | 4 | 0 | 0 | 4 | 1.00 | n/a (no seed has a value) |"),
+            "{t}"
+        );
+        assert!(!t.contains("NaN"), "{t}");
         assert!(stability(&dir, "nothing").is_err());
+        std::fs::write(dir.join("empty/summary.json"), "{").unwrap();
+        assert!(stability(&dir, "fig2").is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
