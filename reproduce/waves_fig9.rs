@@ -1,5 +1,5 @@
 //! PH95 Fig. 9: alpha and the wave speed v against the mean density rho
-//! (L = 220, W = 11, p = b = g = 0.5). Above some rho the model's own
+//! (L = 220 unless `--length`, W = 11, p = b = g = 0.5). Above some rho the model's own
 //! validity ends (rest particles outnumber sites, MODEL.md A4): such runs are
 //! counted per point and the limit is reported, not a crash. PH95 III G's
 //! claims: `drivers::dependence::fig9_claims`, as in `pipe-matrix`.
@@ -30,6 +30,13 @@ struct Args {
     /// the limit.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     rho: Vec<f64>,
+    /// The pipe length L, a multiple of the bin (10). PH95 gives none for
+    /// Figs. 8-10; the default 220 is that of Figs. 6-7 (MODEL.md). The
+    /// peak is searched in PH94's fit range j <= 1000 (m = 16384), i.e. for
+    /// v <= L / 328 rows per step: below L = 220 a wave of v = 0.4 lies
+    /// outside it and v reads a noise bin.
+    #[arg(long, default_value_t = 220)]
+    length: usize,
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -52,14 +59,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     granular_automata::cli::reject_duplicates("--rho", &rhos)?;
     rhos.sort_by(f64::total_cmp);
     // p = b = g = 0.5
-    let base = Params::default();
+    let base = Params {
+        length: args.length,
+        ..Params::default()
+    };
     let points = points_1d("rho", &rhos, |rho| Params { rho, ..base });
     for p in &points {
         // a bad --rho fails before any run, naming the option
         p.params
             .validate()
             .and_then(|()| granular_automata::cli::check_populated(&p.params))
-            .map_err(|e| granular_automata::Error::new(e.kind, format!("--rho: {}", e.message)))?;
+            .map_err(|e| {
+                granular_automata::Error::new(e.kind, format!("--rho, --length: {}", e.message))
+            })?;
     }
     let Some(fig) = SweepFigure::run("waves-fig9", "PH95 Fig. 9", &args.pipe, points)? else {
         return Ok(());
@@ -69,8 +81,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let all = fig.all();
     fig.write_csv("waves-fig9.csv", &["rho"], &all)?;
     let title = format!(
-        "PH95 Fig. 9: L = 220, p = b = g = 0.5, {runs} runs/point, rules {}",
-        fig.rules
+        "PH95 Fig. 9: L = {}, p = b = g = 0.5, {runs} runs/point, rules {}",
+        base.length, fig.rules
     );
     let xlabel = "mean density rho (particles per site)";
     plot_alpha_v(

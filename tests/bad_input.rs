@@ -116,6 +116,16 @@ fn figure_options_name_themselves_and_their_range() {
         &["--rho", "rho = -1"],
     );
     refused(
+        env!("CARGO_BIN_EXE_waves-fig9"),
+        &["--length", "225"],
+        &["--length", "L = 225", "multiple of bin = 10"],
+    );
+    refused(
+        env!("CARGO_BIN_EXE_waves-fig9"),
+        &["--length", "0"],
+        &["--length", "L (length) = 0", "[1, inf)"],
+    );
+    refused(
         env!("CARGO_BIN_EXE_bench"),
         &["--steps", "0"],
         &["--steps", "10..="],

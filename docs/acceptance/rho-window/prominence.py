@@ -3,8 +3,8 @@
 
 Reads the run files of a `waves-fig9 --out DIR` folder (DIR/waves-fig9/runs/*)
 and prints, per density: the valid runs, the bin j of the largest value of the
-averaged spectrum in 400 <= j < 1000 (the wave speeds 0.27-0.67 at the paper
-tier), its height over the background (the median of the bins 20-60 away on
+averaged spectrum in 400 <= j * L / 220 < 1000 (the wave speeds 0.27-0.67 at
+the paper tier; the speed of bin j is proportional to L), its height over the background (the median of the bins 20-60 away on
 either side), and the quartiles of the per-run peak bins j_peak.
 Usage: prominence.py DIR
 """
@@ -14,7 +14,8 @@ import sys
 
 rows = []
 for d in glob.glob(sys.argv[1] + "/waves-fig9/runs/*"):
-    rho = json.load(open(d + "/config.json"))["config"]["config"]["spectrum"]["params"]["rho"]
+    params = json.load(open(d + "/config.json"))["config"]["config"]["spectrum"]["params"]
+    rho, length = params["rho"], params["length"]
     spectra, peaks = [], []
     for f in sorted(glob.glob(d + "/run-*.json")):
         r = json.load(open(f))["result"]
@@ -26,7 +27,8 @@ for d in glob.glob(sys.argv[1] + "/waves-fig9/runs/*"):
         rows.append((rho, "| %.2f | 0 | | | |" % rho))
         continue
     mean = [sum(s[j] for s in spectra) / n for j in range(len(spectra[0]))]
-    jm = max(range(400, 1000), key=lambda j: mean[j])
+    lo, hi = 400 * 220 // length, 1000 * 220 // length
+    jm = max(range(lo, hi), key=lambda j: mean[j])
     background = sorted(mean[jm - 60 : jm - 20] + mean[jm + 20 : jm + 60])[40]
     peaks.sort()
     q = (peaks[n // 4], peaks[n // 2], peaks[(3 * n) // 4])
