@@ -403,22 +403,20 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
             ));
             continue;
         }
-        let (mean, se, pooled, cover) = {
-            let k = ok.len() as f64;
-            let mean = ok.iter().map(|r| r.1).sum::<f64>() / k;
-            let pooled = if ok.iter().all(|r| r.2 > 0.0) {
-                let w: f64 = ok.iter().map(|r| 1.0 / (r.2 * r.2)).sum();
-                ok.iter().map(|r| r.1 / (r.2 * r.2)).sum::<f64>() / w
-            } else {
-                mean
-            };
-            let cover = ok
-                .iter()
-                .filter(|r| (r.1 - pooled).abs() <= 2.0 * r.2)
-                .count() as f64
-                / k;
-            (mean, ok.iter().map(|r| r.2).sum::<f64>() / k, pooled, cover)
+        let k = ok.len() as f64;
+        let mean = ok.iter().map(|r| r.1).sum::<f64>() / k;
+        let se = ok.iter().map(|r| r.2).sum::<f64>() / k;
+        let pooled = if ok.iter().all(|r| r.2 > 0.0) {
+            let w: f64 = ok.iter().map(|r| 1.0 / (r.2 * r.2)).sum();
+            ok.iter().map(|r| r.1 / (r.2 * r.2)).sum::<f64>() / w
+        } else {
+            mean
         };
+        let cover = ok
+            .iter()
+            .filter(|r| (r.1 - pooled).abs() <= 2.0 * r.2)
+            .count() as f64
+            / k;
         out.push_str(&format!(
             "| {name} | {} | {yes} | {no} | {und} | {modal:.2} | {mean:.4} | {se:.4} | {pooled:.4} | {cover:.2} |\n",
             v.len()
