@@ -64,14 +64,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..Params::default()
     };
     let points = points_1d("rho", &rhos, |rho| Params { rho, ..base });
+    // a bad --length or --rho fails before any run, naming the option
+    let named = |option: &str, p: &Params| {
+        p.validate()
+            .and_then(|()| granular_automata::cli::check_populated(p))
+            .map_err(|e| granular_automata::Error::new(e.kind, format!("{option}: {}", e.message)))
+    };
+    named("--length", &base)?;
     for p in &points {
-        // a bad --rho fails before any run, naming the option
-        p.params
-            .validate()
-            .and_then(|()| granular_automata::cli::check_populated(&p.params))
-            .map_err(|e| {
-                granular_automata::Error::new(e.kind, format!("--rho, --length: {}", e.message))
-            })?;
+        named("--rho", &p.params)?;
     }
     let Some(fig) = SweepFigure::run("waves-fig9", "PH95 Fig. 9", &args.pipe, points)? else {
         return Ok(());

@@ -73,63 +73,49 @@ fn explore_refuses_bad_runs_and_densities_and_reads_negative_numbers() {
     );
 }
 
+/// A figure option out of its range: (binary, its arguments separated by
+/// spaces, what stderr must name).
+const FIGURE_OPTION_CASES: &[(&str, &str, &[&str])] = &[
+    ("waves-fig12", "--steps 0", &["--steps", "1000..="]),
+    (
+        "waves-fig12",
+        "--sizes 220x11,220x11",
+        &["--sizes", "220x11", "more than once"],
+    ),
+    ("waves-fig12", "--sizes 220x1", &["W", "220x1", "[2, inf)"]),
+    (
+        "waves-fig4",
+        "--lengths 128,128",
+        &["--lengths", "128", "more than once"],
+    ),
+    ("waves-fig4", "--lengths 4", &["L = 4", "[8, inf)"]),
+    ("waves-fig5", "--p -0.1", &["p = -0.1", "[0, 1]"]),
+    ("waves-fig9", "--rho 0", &["--rho", "rho = 0", "(0, 6)"]),
+    ("waves-fig9", "--rho -1,2", &["--rho", "rho = -1"]),
+    (
+        "waves-fig9",
+        "--length 225",
+        &["--length", "L = 225", "multiple of bin = 10"],
+    ),
+    (
+        "waves-fig9",
+        "--length 0",
+        &["--length", "L (length) = 0", "[1, inf)"],
+    ),
+    ("bench", "--steps 0", &["--steps", "10..="]),
+];
+
 #[test]
 fn figure_options_name_themselves_and_their_range() {
-    refused(
-        env!("CARGO_BIN_EXE_waves-fig12"),
-        &["--steps", "0"],
-        &["--steps", "1000..="],
-    );
-    refused(
-        env!("CARGO_BIN_EXE_waves-fig12"),
-        &["--sizes", "220x11,220x11"],
-        &["--sizes", "220x11", "more than once"],
-    );
-    refused(
-        env!("CARGO_BIN_EXE_waves-fig12"),
-        &["--sizes", "220x1"],
-        &["W", "220x1", "[2, inf)"],
-    );
-    refused(
-        env!("CARGO_BIN_EXE_waves-fig4"),
-        &["--lengths", "128,128"],
-        &["--lengths", "128", "more than once"],
-    );
-    refused(
-        env!("CARGO_BIN_EXE_waves-fig4"),
-        &["--lengths", "4"],
-        &["L = 4", "[8, inf)"],
-    );
-    refused(
-        env!("CARGO_BIN_EXE_waves-fig5"),
-        &["--p", "-0.1"],
-        &["p = -0.1", "[0, 1]"],
-    );
-    refused(
-        env!("CARGO_BIN_EXE_waves-fig9"),
-        &["--rho", "0"],
-        &["--rho", "rho = 0", "(0, 6)"],
-    );
-    refused(
-        env!("CARGO_BIN_EXE_waves-fig9"),
-        &["--rho", "-1,2"],
-        &["--rho", "rho = -1"],
-    );
-    refused(
-        env!("CARGO_BIN_EXE_waves-fig9"),
-        &["--length", "225"],
-        &["--length", "L = 225", "multiple of bin = 10"],
-    );
-    refused(
-        env!("CARGO_BIN_EXE_waves-fig9"),
-        &["--length", "0"],
-        &["--length", "L (length) = 0", "[1, inf)"],
-    );
-    refused(
-        env!("CARGO_BIN_EXE_bench"),
-        &["--steps", "0"],
-        &["--steps", "10..="],
-    );
+    // every binary lies in the folder of `bench`
+    let dir = std::path::Path::new(env!("CARGO_BIN_EXE_bench"))
+        .parent()
+        .expect("a folder");
+    for &(name, args, want) in FIGURE_OPTION_CASES {
+        let exe = dir.join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
+        let args: Vec<&str> = args.split(' ').collect();
+        refused(exe.to_str().expect("a UTF-8 path"), &args, want);
+    }
 }
 
 #[test]
