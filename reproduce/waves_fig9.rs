@@ -7,13 +7,11 @@
 //! `cargo run --release --bin waves-fig9 -- --tier quick`
 
 use clap::Parser;
-use granular_automata::analysis::grading::Kind;
 use granular_automata::cli::PipeArgs;
-use granular_automata::drivers::dependence::{checks as claim_checks, fig9_claims};
+use granular_automata::drivers::dependence::{checks as claim_checks, fig9_claims, fig9_validity};
 use granular_automata::drivers::sweep::{plot_alpha_v, points_1d, Curve, SweepFigure};
 use granular_automata::pipe::Params;
 use granular_automata::plot::{errorbar_chart_at, ErrSeries, PALETTE};
-use granular_automata::run::Check;
 use plotters::chart::SeriesLabelPosition;
 use serde_json::json;
 
@@ -111,48 +109,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
 
     let mut metrics = fig.metrics();
-    for r in res {
-        metrics.insert(
-            format!("invalid_fraction_{}", r.point.label),
-            r.invalid as f64 / runs as f64,
-        );
-    }
-    // the validity limit: smallest swept rho where any / all runs are invalid
-    let any = res.iter().find(|r| r.invalid > 0).map(|r| r.point.x[0]);
-    let all_inv = res.iter().find(|r| r.valid == 0).map(|r| r.point.x[0]);
-    if let Some(x) = any {
-        metrics.insert("rho_limit_any_invalid".into(), x);
-    }
-    if let Some(x) = all_inv {
-        metrics.insert("rho_limit_all_invalid".into(), x);
-    }
-    let invalid_below: usize = res
-        .iter()
-        .filter(|r| r.point.x[0] <= 1.0)
-        .map(|r| r.invalid)
-        .sum();
-    let last = res.last().expect("at least one point");
-    let mut checks = vec![
-        Check::exact(
-            "valid_up_to_rho_1",
-            Kind::Pinned,
-            "MODEL.md A11 (runs left the validity only near rho ~ 2)",
-            invalid_below as f64,
-            invalid_below == 0,
-            "internal consistency: no run at rho <= 1 leaves the model's validity (MODEL.md A11: only rho ~ 2 did)",
-        ),
-        Check::exact(
-            "validity_limit_detected",
-            Kind::Pinned,
-            "MODEL.md A11; waves-fig9 standard tier (EXPERIMENTS.md)",
-            last.invalid as f64,
-            last.invalid > 0,
-            &format!(
-                "the sweep reaches the model's validity limit: at least one run at the largest rho = {} stops with RestExceedsSites/RelocationStuck and is counted, not fatal",
-                last.point.x[0]
-            ),
-        ),
-    ];
+    let mut checks = fig9_validity(res, runs, &mut metrics);
     checks.extend(claim_checks(fig9_claims(&all)));
     fig.finish(
         json!({"base": base, "rho": rhos, "setup": fig.setup_of(base)}),

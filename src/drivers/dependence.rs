@@ -123,6 +123,60 @@ fn keep(claims: Vec<(&'static str, Vec<Check>)>) -> Vec<Claimed> {
         .collect()
 }
 
+/// The model's validity along Fig. 9's sweep over rho (MODEL.md A4, A11):
+/// adds to `metrics` the share of runs that left it per point and the
+/// smallest rho where any / all runs did, and returns the two pinned checks
+/// (no run at rho <= 1 leaves it; the largest rho reaches the limit).
+pub fn fig9_validity(
+    res: &[PointResult],
+    runs: usize,
+    metrics: &mut std::collections::BTreeMap<String, f64>,
+) -> Vec<Check> {
+    for r in res {
+        metrics.insert(
+            format!("invalid_fraction_{}", r.point.label),
+            r.invalid as f64 / runs as f64,
+        );
+    }
+    let any = res.iter().find(|r| r.invalid > 0).map(|r| r.point.x[0]);
+    let all = res.iter().find(|r| r.valid == 0).map(|r| r.point.x[0]);
+    if let Some(x) = any {
+        metrics.insert("rho_limit_any_invalid".into(), x);
+    }
+    if let Some(x) = all {
+        metrics.insert("rho_limit_all_invalid".into(), x);
+    }
+    let invalid_below: usize = res
+        .iter()
+        .filter(|r| r.point.x[0] <= 1.0)
+        .map(|r| r.invalid)
+        .sum();
+    let Some(last) = res.last() else {
+        return Vec::new();
+    };
+    vec![
+        Check::exact(
+            "valid_up_to_rho_1",
+            Kind::Pinned,
+            "MODEL.md A11 (runs left the validity only near rho ~ 2)",
+            invalid_below as f64,
+            invalid_below == 0,
+            "internal consistency: no run at rho <= 1 leaves the model's validity (MODEL.md A11: only rho ~ 2 did)",
+        ),
+        Check::exact(
+            "validity_limit_detected",
+            Kind::Pinned,
+            "MODEL.md A11; waves-fig9 standard tier (EXPERIMENTS.md)",
+            last.invalid as f64,
+            last.invalid > 0,
+            &format!(
+                "the sweep reaches the model's validity limit: at least one run at the largest rho = {} stops with RestExceedsSites/RelocationStuck and is counted, not fatal",
+                last.point.x[0]
+            ),
+        ),
+    ]
+}
+
 /// PH95 III G (Fig. 9) from a sweep over rho at p = b = g = 0.5 (`points`;
 /// the reference is rho = 1):
 /// - `alpha_zero_low_rho`: alpha within [`ALPHA_MARGIN`] of 0 at every swept
