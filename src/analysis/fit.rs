@@ -490,7 +490,11 @@ pub struct AlphaEstimate {
 
 /// alpha of a spectrum of m = p.len() frequencies the default way: see
 /// [`AlphaEstimate`]. The peak bins are removed even when the contrast shows
-/// no real line (that costs 2h + 1 bins of noise, nothing else).
+/// no real line. That is not free: where a weak feature competes with the
+/// noise maximum (contrast about 1.1-1.2, PH95 Fig. 9 at rho = 0.2), which
+/// bins go depends on the noise, alpha moves by about 0.02 with them, and a
+/// delete-one jackknife of this estimate is inflated up to 25 times
+/// (EXPERIMENTS.md "Fig. 9 over fresh base seeds").
 pub fn estimate_alpha(p: &[f64]) -> Result<AlphaEstimate> {
     let m = p.len();
     let mut params = PowerLawParams::default_for(m);
