@@ -82,49 +82,60 @@ pub trait PipeEngine: Send {
     }
 }
 
+/// The body of `impl PipeEngine for $engine`: every method of the contract
+/// forwarded to the engine's own method of the same name, so that an engine
+/// keeps its methods callable without the trait in scope. Extra methods (an
+/// engine's own `run`) follow the macro call in the same `impl` block.
+macro_rules! forward_to_inherent {
+    ($engine:ident) => {
+        fn params(&self) -> &Params {
+            $engine::params(self)
+        }
+        fn step(&mut self) -> Result<()> {
+            $engine::step(self)
+        }
+        fn time(&self) -> u64 {
+            $engine::time(self)
+        }
+        fn site(&self, x: usize, y: usize) -> u8 {
+            $engine::site(self, x, y)
+        }
+        fn set_site(&mut self, x: usize, y: usize, state: u8) {
+            $engine::set_site(self, x, y, state)
+        }
+        fn fill_bin_counts(&self, out: &mut [f64]) {
+            $engine::fill_bin_counts(self, out)
+        }
+        fn channel_counts(&self) -> [u64; 7] {
+            $engine::channel_counts(self)
+        }
+        fn flux(&self) -> Flux {
+            $engine::flux(self)
+        }
+        fn rules(&self) -> Rules {
+            $engine::rules(self)
+        }
+        fn set_p(&mut self, p: f64) -> Result<()> {
+            $engine::set_p(self, p)
+        }
+        fn particle_count(&self) -> u64 {
+            $engine::particle_count(self)
+        }
+        fn moving_count(&self) -> u64 {
+            $engine::moving_count(self)
+        }
+        fn rest_count(&self) -> u64 {
+            $engine::rest_count(self)
+        }
+        fn bin_count(&self, i: usize) -> u32 {
+            $engine::bin_count(self, i)
+        }
+    };
+}
+pub(crate) use forward_to_inherent;
+
 impl<D: Draws + Send> PipeEngine for Pipe<D> {
-    fn params(&self) -> &Params {
-        Pipe::params(self)
-    }
-    fn step(&mut self) -> Result<()> {
-        Pipe::step(self)
-    }
-    fn time(&self) -> u64 {
-        Pipe::time(self)
-    }
-    fn site(&self, x: usize, y: usize) -> u8 {
-        Pipe::site(self, x, y)
-    }
-    fn set_site(&mut self, x: usize, y: usize, state: u8) {
-        Pipe::set_site(self, x, y, state)
-    }
-    fn fill_bin_counts(&self, out: &mut [f64]) {
-        Pipe::fill_bin_counts(self, out)
-    }
-    fn channel_counts(&self) -> [u64; 7] {
-        Pipe::channel_counts(self)
-    }
-    fn flux(&self) -> Flux {
-        Pipe::flux(self)
-    }
-    fn rules(&self) -> Rules {
-        Pipe::rules(self)
-    }
-    fn set_p(&mut self, p: f64) -> Result<()> {
-        Pipe::set_p(self, p)
-    }
-    fn particle_count(&self) -> u64 {
-        Pipe::particle_count(self)
-    }
-    fn moving_count(&self) -> u64 {
-        Pipe::moving_count(self)
-    }
-    fn rest_count(&self) -> u64 {
-        Pipe::rest_count(self)
-    }
-    fn bin_count(&self, i: usize) -> u32 {
-        Pipe::bin_count(self, i)
-    }
+    forward_to_inherent!(Pipe);
 }
 
 /// Builds runs of one engine: what `validate` and the figures are given.

@@ -30,7 +30,7 @@ pub mod logic;
 pub mod walk;
 
 use super::collision::{bit, threshold, CollisionTable, Entry};
-use super::engine::{EngineBuilder, PipeEngine};
+use super::engine::{forward_to_inherent, EngineBuilder, PipeEngine};
 use super::order::{self, SubSteps};
 use super::relocation;
 use super::{Boundary, Flux, GravityWording, Params, Rules};
@@ -678,50 +678,9 @@ fn exit_channels(x: usize, w: usize, l: usize) -> (u8, u8) {
 }
 
 impl<R: Rng + Clone + Send> PipeEngine for FastPipe<R> {
-    fn params(&self) -> &Params {
-        FastPipe::params(self)
-    }
-    fn step(&mut self) -> Result<()> {
-        FastPipe::step(self)
-    }
+    forward_to_inherent!(FastPipe);
     fn run(&mut self, steps: u64) -> Result<()> {
         FastPipe::run(self, steps)
-    }
-    fn time(&self) -> u64 {
-        FastPipe::time(self)
-    }
-    fn site(&self, x: usize, y: usize) -> u8 {
-        FastPipe::site(self, x, y)
-    }
-    fn set_site(&mut self, x: usize, y: usize, state: u8) {
-        FastPipe::set_site(self, x, y, state)
-    }
-    fn fill_bin_counts(&self, out: &mut [f64]) {
-        FastPipe::fill_bin_counts(self, out)
-    }
-    fn channel_counts(&self) -> [u64; 7] {
-        FastPipe::channel_counts(self)
-    }
-    fn flux(&self) -> Flux {
-        FastPipe::flux(self)
-    }
-    fn rules(&self) -> Rules {
-        FastPipe::rules(self)
-    }
-    fn set_p(&mut self, p: f64) -> Result<()> {
-        FastPipe::set_p(self, p)
-    }
-    fn particle_count(&self) -> u64 {
-        FastPipe::particle_count(self)
-    }
-    fn moving_count(&self) -> u64 {
-        FastPipe::moving_count(self)
-    }
-    fn rest_count(&self) -> u64 {
-        FastPipe::rest_count(self)
-    }
-    fn bin_count(&self, i: usize) -> u32 {
-        FastPipe::bin_count(self, i)
     }
 }
 
