@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Stability of the acceptance tier over base seeds (issue 29 item 5): run one
+# figure at `--tier acceptance` for base seeds FIRST..LAST, one seed at a
+# time, and file each finished seed's summary.json under
+# docs/acceptance/FIGURE/seed-N/FIGURE/, its timing in times.log and the
+# refreshed verdict table in stability.md.
+#
+#   docs/acceptance/run-seeds.sh FIGURE FIRST LAST [--threads N] [--work DIR] [--commit]
+#
+# - A seed already filed is skipped; an interrupted seed resumes from the runs
+#   saved in DIR/seed-N (default DIR: target/acceptance/FIGURE).
+# - Several machines share the work by taking disjoint seed ranges; copy their
+#   docs/acceptance/FIGURE/seed-N folders together and rerun
+#   `target/release/acceptance stability` (the last lines of this script).
+# - --commit commits the three filed items after every seed, so that a
+#   machine that goes away loses at most the seed under way.
+# - Needs `cargo build --release --bins` first. Each figure picks its own
+#   engine at this tier (fast for the pipe, the reference for the hopper).
+set -euo pipefail
+usage() {
+    echo "usage: $0 FIGURE FIRST LAST [--threads N] [--work DIR] [--commit]" >&2
+    exit 2
+}
+[ $# -ge 3 ] || usage
+fig=$1 first=$2 last=$3
+shift 3
+threads=2 work="" commit=0
+while [ $# -gt 0 ]; do
+    case $1 in
+        --threads) [ $# -ge 2 ] || usage; threads=$2; shift 2 ;;
+        --work) [ $# -ge 2 ] || usage; work=$2; shift 2 ;;
+        --commit) commit=1; shift ;;
+        *) usage ;;
+    esac
+done
+[[ $first =~ ^[0-9]+$ && $last =~ ^[0-9]+$ && $first -le $last ]] || {
+    echo "FIRST and LAST must be whole numbers with FIRST <= LAST, got '$first' and '$last'" >&2
+    exit 2
+}
+cd "$(dirname "$0")/../.."
+bin=target/release/$fig
+[ -x "$bin" ] || { echo "no $bin: run 'cargo build --release --bins' first (FIGURE is a figure binary, e.g. waves-fig9)" >&2; exit 2; }
+[ -x target/release/acceptance ] || { echo "no target/release/acceptance: run 'cargo build --release --bins' first" >&2; exit 2; }
+work=${work:-target/acceptance/$fig}
+docs=docs/acceptance/$fig
+mkdir -p "$docs" "$work"
+TIMEFORMAT='%R %U %S'
+for s in $(seq "$first" "$last"); do
+    filed=$docs/seed-$s/$fig/summary.json
+    [ -f "$filed" ] && { echo "seed $s: filed already, skipped"; continue; }
+    echo "seed $s: $bin --tier acceptance --seed $s --threads $threads --out $work/seed-$s"
+    t=$({ time "$bin" --tier acceptance --seed "$s" --threads "$threads" --out "$work/seed-$s" \
+        > "$work/seed-$s.log" 2>&1; } 2>&1) || { echo "seed $s failed: see $work/seed-$s.log" >&2; exit 1; }
+    read -r wall user sys <<< "$t"
+    mkdir -p "$(dirname "$filed")"
+    cp "$work/seed-$s/$fig/summary.json" "$filed"
+    echo "seed $s wall $wall s cpu $user+$sys s" >> "$docs/times.log"
+    target/release/acceptance stability --from "$docs" --figure "$fig" > "$docs/stability.md"
+    echo "seed $s: filed (wall $wall s, cpu $user+$sys s)"
+    if [ $commit = 1 ]; then
+        git add "$filed" "$docs/times.log" "$docs/stability.md"
+        git commit -q -m "$fig acceptance seed $s" ||
+            echo "seed $s: git commit failed; the seed is filed, commit it by hand" >&2
+    fi
+done
