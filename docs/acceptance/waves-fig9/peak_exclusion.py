@@ -9,8 +9,10 @@ m = 16384, local power-law background over 33 bins without the central +-2,
 peak = largest contrast, +-16 bins removed, OLS of log10 P on log10 j) and
 src/analysis/mean_spectrum.rs (alpha_of_mean, delete-one jackknife).
 
-usage: peak_exclusion.py POINT [--bootstrap N] SEED_DIR...
-  SEED_DIR is a waves-fig9 --out folder (holding waves-fig9/runs/).
+usage: peak_exclusion.py POINT [--figure FIGURE] [--bootstrap N] SEED_DIR...
+  SEED_DIR is a figure's --out folder (holding FIGURE/runs/; FIGURE is
+  waves-fig9 unless given); POINT is a sweep point (waves-fig9: rho0.2) or a
+  set-up (waves-fig7: p0).
 Prints one row per seed: the default alpha of the mean spectrum, its peak and
 contrast, the default jackknife SE, the leave-outs whose peak moved, the SE
 with the removed bins fixed at the full ensemble's peak, the alpha with no
@@ -65,27 +67,34 @@ def jackknife(values):
     return float(np.sqrt((n - 1) / n * ((v - v.mean()) ** 2).sum()))
 
 
-def load(seed_dir, point):
-    for d in glob.glob(seed_dir + "/waves-fig9/runs/*"):
-        first = json.load(open(d + "/run-00000.json"))
-        if first["key"]["config"]["config"]["sweep-point"] != point:
+def load(seed_dir, point, figure="waves-fig9"):
+    """The spectra of the finished runs of `point` (a sweep point such as rho0.2,
+    or a set-up such as p0) under `figure`'s --out folder."""
+    for d in glob.glob(f"{seed_dir}/{figure}/runs/*"):
+        config = json.load(open(d + "/run-00000.json"))["key"]["config"]["config"]
+        if point not in (config.get("sweep-point"), config.get("set-up")):
             continue
         rows = [json.load(open(f))["result"] for f in sorted(glob.glob(d + "/run-*.json"))]
-        return np.array([r["Valid"]["spectrum"] for r in rows if "Valid" in r])
+        rows = [r.get("Valid", r) for r in rows if "Invalid" not in r]
+        return np.array([r["spectrum"] for r in rows])
     return None
 
 
 def main(argv):
     point, rest = argv[0], argv[1:]
-    boot = 0
-    if rest[:1] == ["--bootstrap"]:
-        boot, rest = int(rest[1]), rest[2:]
+    boot, figure = 0, "waves-fig9"
+    while rest[:1] in (["--bootstrap"], ["--figure"]):
+        if rest[0] == "--bootstrap":
+            boot = int(rest[1])
+        else:
+            figure = rest[1]
+        rest = rest[2:]
     rng = np.random.default_rng(29)
     print("| seed dir | runs | alpha | peak j | contrast | jackknife SE | leave-outs moving the peak "
           "| SE, removed bins fixed | alpha, none removed | its SE |" + (" bootstrap SE |" if boot else ""))
     print("|---|---|---|---|---|---|---|---|---|---|" + ("---|" if boot else ""))
     for sd in rest:
-        p = load(sd, point)
+        p = load(sd, point, figure)
         if p is None or len(p) < 3:
             print(f"| {sd} | no finished runs at {point} |")
             continue
