@@ -15,13 +15,16 @@ usage: no_line_contrast.py RUNS ENSEMBLES [A] [SEED]
 Prints the quantiles of the maximum contrast over ENSEMBLES ensembles.
 Needs numpy.
 """
+import os
 import sys
 
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "waves-fig9"))
+from peak_exclusion import peak  # noqa: E402  (the contrast of src/analysis/fit.rs, written once)
+
 M, K = 16384, 4
 N = 2 * M
-H, GAP, J_LO, J_HI = 16, 2, 40, 1000
 I = np.arange(N)
 WINDOW = 1 - np.abs((I - (N - 1) / 2) / ((N + 1) / 2))
 
@@ -38,26 +41,14 @@ def run_spectrum(rng, a):
     return p.mean(0) / (N * (WINDOW**2).sum())
 
 
-def max_contrast(p):
-    logs = np.log10(np.arange(len(p)) + (np.arange(len(p)) == 0))
-    best = 0.0
-    for j in range(J_LO, J_HI + 1):
-        lo = max(j - H, 1)
-        hi = min(lo + 2 * H, len(p) - 1)
-        lo = max(hi - 2 * H, 1)
-        i = np.arange(lo, hi + 1)
-        i = i[np.abs(i - j) > GAP]
-        s, c = np.polyfit(logs[i], np.log10(p[i]), 1)
-        best = max(best, p[j] / 10 ** (c + s * logs[j]))
-    return best
-
-
 def main(argv):
+    if len(argv) < 2 or not (argv[0].isdigit() and argv[1].isdigit()) or min(int(argv[0]), int(argv[1])) < 1:
+        sys.exit("usage: no_line_contrast.py RUNS ENSEMBLES [A] [SEED]  (RUNS, ENSEMBLES whole numbers >= 1)")
     runs, ensembles = int(argv[0]), int(argv[1])
     a = float(argv[2]) if len(argv) > 2 else 0.0
     rng = np.random.default_rng(int(argv[3]) if len(argv) > 3 else 29)
     c = np.array(
-        [max_contrast(np.mean([run_spectrum(rng, a) for _ in range(runs)], axis=0)) for _ in range(ensembles)]
+        [peak(np.mean([run_spectrum(rng, a) for _ in range(runs)], axis=0))[1] for _ in range(ensembles)]
     )
     q = np.quantile(c, [0.5, 0.9, 0.95, 0.99])
     print(f"runs {runs}, ensembles {ensembles}, a = {a}: max contrast median {q[0]:.3f}, "

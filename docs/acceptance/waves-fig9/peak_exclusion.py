@@ -81,6 +81,8 @@ def load(seed_dir, point, figure="waves-fig9"):
 
 
 def main(argv):
+    if len(argv) < 2:
+        sys.exit("usage: peak_exclusion.py POINT [--figure FIGURE] [--bootstrap N] SEED_DIR...")
     point, rest = argv[0], argv[1:]
     boot, figure = 0, "waves-fig9"
     while rest[:1] in (["--bootstrap"], ["--figure"]):
