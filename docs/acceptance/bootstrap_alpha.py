@@ -8,7 +8,11 @@ jackknife, for the peak's velocity (src/analysis/mean_spectrum.rs, v_of_mean).
 Each resample finds its own peak, so the spread of where the removed bins
 fall is part of the SE.
 
-usage: bootstrap_alpha.py FIGURE POINT [--resamples B] SEED_DIR...
+With --line-rule the estimate is line_rule.py's instead: the peak's bins are
+removed only where its contrast beats c*(n) = exp(1.49 / sqrt(n)), and each
+resample decides again (and finds its own peak).
+
+usage: bootstrap_alpha.py FIGURE POINT [--resamples B] [--line-rule] SEED_DIR...
   as line_rule.py; B = 400 unless given (the bootstrap of v_of_mean).
 Prints one row per seed and the summary of line_rule.py. The SE is called
 honest when SD / RMS SE lies within 0.7-1.4 and the coverage is at least
@@ -44,22 +48,30 @@ def fast_peak(p):
     return int(js[k]), float(con[k])
 
 
-def default_alpha(p):
-    return alpha(p, fast_peak(p)[0])
+def estimate(p, n, line_rule):
+    """(alpha, peak j, whether its bins were removed) of averaged spectrum p
+    of n runs."""
+    j, c = fast_peak(p)
+    removed = not line_rule or c > np.exp(1.49 / np.sqrt(n))
+    return alpha(p, j if removed else None), j, removed
 
 
 def main(argv):
     if len(argv) < 3:
         sys.exit(__doc__.split("usage: ")[1].split("\n")[0])
     figure, point, rest = argv[0], argv[1], argv[2:]
-    b = 400
-    if rest[:1] == ["--resamples"]:
-        b, rest = int(rest[1]), rest[2:]
+    b, line_rule = 400, False
+    while rest[:1] in (["--resamples"], ["--line-rule"]):
+        if rest[0] == "--line-rule":
+            line_rule, rest = True, rest[1:]
+        else:
+            b, rest = int(rest[1]), rest[2:]
     rng = np.random.default_rng(0x5EED0029)
     vals = []
-    print(f"{figure} {point}: default alpha, bootstrap SE over runs ({b} resamples)")
-    print("| seed folder | runs | peak j | contrast | alpha | bootstrap SE | resamples with another peak |")
-    print("|---|---|---|---|---|---|---|")
+    what = "line-rule" if line_rule else "default"
+    print(f"{figure} {point}: {what} alpha, bootstrap SE over runs ({b} resamples)")
+    print("| seed folder | runs | peak j | contrast | bins removed | alpha | bootstrap SE | resamples with another peak | resamples removing bins |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for d in rest:
         rows = load(d, point, figure)
         if rows is None or len(rows) < 3:
@@ -68,18 +80,19 @@ def main(argv):
         n = len(rows)
         mean = rows.mean(0)
         j, c = fast_peak(mean)
-        assert (j, round(c, 9)) == (peak(mean)[0], round(peak(mean)[1], 9)), "vectorised contrast differs"
-        a = alpha(mean, j)
+        j0, c0 = peak(mean)
+        assert j == j0 and abs(c - c0) <= 1e-9 * c0, f"vectorised contrast differs: {(j, c)} vs {(j0, c0)}"
+        a, _, rem = estimate(mean, n, line_rule)
         boot = []
-        moved = 0
+        moved = removing = 0
         for _ in range(b):
-            m = rows[rng.integers(0, n, n)].mean(0)
-            jj = fast_peak(m)[0]
+            x, jj, r = estimate(rows[rng.integers(0, n, n)].mean(0), n, line_rule)
             moved += jj != j
-            boot.append(alpha(m, jj))
+            removing += r
+            boot.append(x)
         se = float(np.std(boot, ddof=1))
         vals.append((a, se))
-        print(f"| {d} | {n} | {j} | {c:.3f} | {a:.4f} | {se:.4f} | {moved} |")
+        print(f"| {d} | {n} | {j} | {c:.3f} | {'yes' if rem else 'no'} | {a:.4f} | {se:.4f} | {moved} | {removing} |")
     if len(vals) >= 2:
         a = np.array([v[0] for v in vals])
         se = np.array([v[1] for v in vals])

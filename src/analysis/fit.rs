@@ -494,7 +494,8 @@ pub struct AlphaEstimate {
 /// noise maximum (contrast about 1.1-1.2, PH95 Fig. 9 at rho = 0.2), which
 /// bins go depends on the noise, alpha moves by about 0.02 with them, and a
 /// delete-one jackknife of this estimate is inflated up to 25 times
-/// (EXPERIMENTS.md "Fig. 9 over fresh base seeds").
+/// (EXPERIMENTS.md "Fig. 9 over fresh base seeds"); its SE over runs is
+/// therefore a bootstrap ([`super::mean_spectrum::alpha_of_mean`]).
 pub fn estimate_alpha(p: &[f64]) -> Result<AlphaEstimate> {
     let m = p.len();
     let mut params = PowerLawParams::default_for(m);

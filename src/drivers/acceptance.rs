@@ -6,8 +6,10 @@
 //! # Estimators (chosen on pilot seeds, EXPERIMENTS.md "Acceptance")
 //!
 //! - **alpha**: the fit of the spectrum averaged over the runs (the default
-//!   fit of MODEL.md A9), with the delete-one jackknife standard error over
-//!   runs ([`crate::analysis::mean_spectrum::alpha_of_mean`]). A run whose own fit is an outlier (one in 16
+//!   fit of MODEL.md A9), with the bootstrap standard error over runs
+//!   ([`crate::analysis::mean_spectrum::alpha_of_mean`]; the delete-one
+//!   jackknife of the pilots until session 24 is inflated wherever the
+//!   removed peak moves). A run whose own fit is an outlier (one in 16
 //!   had alpha 0.78) adds only 1/n of its power to the average.
 //! - **v**: the velocity of the peak of the averaged spectrum, with the
 //!   bootstrap standard error over runs

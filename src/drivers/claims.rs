@@ -215,7 +215,7 @@ pub const CLAIMS: [(&str, &str); 39] = [
     ),
     (
         "alpha_fig2_published",
-        "PH94 Fig. 2 at the published set-up: alpha = 1.33 +- 0.02 (m = 16384, 128 runs, fit of the averaged spectrum with its jackknife SE, within the acceptance margin 0.059)",
+        "PH94 Fig. 2 at the published set-up: alpha = 1.33 +- 0.02 (m = 16384, 128 runs, fit of the averaged spectrum with its bootstrap SE, within the acceptance margin 0.059)",
     ),
 ];
 
@@ -1113,7 +1113,7 @@ fn headline_margin() -> &'static super::acceptance::Margin {
 impl Grader<'_> {
     /// PH94 Fig. 2's alpha at the published set-up, as `fig2 --tier
     /// acceptance` grades it: the fit of the averaged spectrum with its
-    /// jackknife SE over the acceptance tier's runs and margin.
+    /// bootstrap SE over the acceptance tier's runs and margin.
     fn headline(&self, out: &mut Vec<Graded>) -> Result<()> {
         let m = headline_margin();
         let params = self.pipe(Params::default());
@@ -1136,7 +1136,7 @@ impl Grader<'_> {
             r.alpha_estimate(),
             m.claim(),
             &format!(
-                "fit of the averaged spectrum over {} valid runs ({} invalid), jackknife SE; {}",
+                "fit of the averaged spectrum over {} valid runs ({} invalid), bootstrap SE; {}",
                 r.valid,
                 r.invalid,
                 m.note()

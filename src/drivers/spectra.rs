@@ -473,7 +473,7 @@ pub fn run_figure(
     if acceptance {
         // the estimators and margins fixed before measuring (drivers::acceptance)
         let alpha = crate::analysis::mean_spectrum::alpha_of_mean(&ens.spectra())?;
-        metrics.insert("alpha_of_mean_spectrum_jackknife_se".to_string(), alpha.se);
+        metrics.insert("alpha_of_mean_spectrum_bootstrap_se".to_string(), alpha.se);
         if let Some(m) = margin("alpha") {
             checks.push(Check::published(
                 "alpha",
@@ -481,7 +481,7 @@ pub fn run_figure(
                 alpha,
                 m.claim(),
                 &format!(
-                    "fit of the averaged spectrum, jackknife SE over runs; {}{}",
+                    "fit of the averaged spectrum, bootstrap SE over runs; {}{}",
                     m.note(),
                     fig.note
                 ),

@@ -63,11 +63,11 @@ pub struct PointResult {
     pub of_mean: Option<OfMean>,
 }
 
-/// alpha and v of a point's averaged spectrum, with the jackknife and the
-/// bootstrap SE over runs (`analysis::mean_spectrum`).
+/// alpha and v of a point's averaged spectrum, with their bootstrap SEs over
+/// runs (`analysis::mean_spectrum`).
 #[derive(Debug, Clone, Copy)]
 pub struct OfMean {
-    /// alpha of the averaged spectrum, jackknife SE.
+    /// alpha of the averaged spectrum, bootstrap SE.
     pub alpha: Estimate,
     /// v of the peak of the averaged spectrum, bootstrap SE.
     pub v: Estimate,
@@ -100,7 +100,7 @@ impl Estimator {
         match self {
             Estimator::PerRun => "per-run values, SEs combined",
             Estimator::AveragedSpectrum => {
-                "averaged spectra: alpha jackknife, v bootstrap SE over runs; SEs combined"
+                "averaged spectra: alpha and v bootstrap SEs over runs; SEs combined"
             }
         }
     }
@@ -319,7 +319,7 @@ impl Quantity {
         match (self, estimator) {
             (Quantity::Alpha, Estimator::PerRun) => "alpha (mean over runs +- SE)",
             (Quantity::Alpha, Estimator::AveragedSpectrum) => {
-                "alpha (fit of the averaged spectrum +- jackknife SE)"
+                "alpha (fit of the averaged spectrum +- bootstrap SE)"
             }
             (Quantity::V, Estimator::PerRun) => "v from the spectral peak, rows/step (mean +- SE)",
             (Quantity::V, Estimator::AveragedSpectrum) => {
@@ -396,7 +396,7 @@ pub fn plot_alpha_v(
 
 /// Metrics of a point: `alpha_<label>`, `alpha_<label>_err`, `v_<label>`,
 /// `v_<label>_err` (per-run values), those of the averaged spectrum when it
-/// is graded (`alpha_of_mean_<label>`, `..._jackknife_se`, `v_of_mean_<label>`,
+/// is graded (`alpha_of_mean_<label>`, `..._bootstrap_se`, `v_of_mean_<label>`,
 /// `..._bootstrap_se`), and `invalid_<label>` when any run was invalid.
 pub fn point_metrics(r: &PointResult, m: &mut std::collections::BTreeMap<String, f64>) {
     let l = &r.point.label;
@@ -406,7 +406,7 @@ pub fn point_metrics(r: &PointResult, m: &mut std::collections::BTreeMap<String,
     m.insert(format!("v_{l}_err"), r.v_err);
     if let Some(o) = r.of_mean {
         m.insert(format!("alpha_of_mean_{l}"), o.alpha.mean);
-        m.insert(format!("alpha_of_mean_{l}_jackknife_se"), o.alpha.se);
+        m.insert(format!("alpha_of_mean_{l}_bootstrap_se"), o.alpha.se);
         m.insert(format!("v_of_mean_{l}"), o.v.mean);
         m.insert(format!("v_of_mean_{l}_bootstrap_se"), o.v.se);
     }

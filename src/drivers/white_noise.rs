@@ -64,7 +64,7 @@ pub fn checks(setup: &SpectrumSetup, ens: &[SpectrumEnsemble]) -> Vec<Check> {
 }
 
 /// The checks at the acceptance tier: the estimators and margins of
-/// `drivers::acceptance` (fit of the averaged spectrum, jackknife SE; peak
+/// `drivers::acceptance` (fit of the averaged spectrum, bootstrap SE; peak
 /// of the averaged spectrum, bootstrap SE).
 pub fn acceptance_checks(
     setup: &SpectrumSetup,
@@ -79,7 +79,7 @@ pub fn acceptance_checks(
                 alpha_of_mean(&e.spectra())?,
                 m.claim(),
                 &format!(
-                    "fit of the averaged spectrum, jackknife SE over runs; {}",
+                    "fit of the averaged spectrum, bootstrap SE over runs; {}",
                     m.note()
                 ),
             ));
