@@ -24,8 +24,11 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "waves-fig9"))
-from peak_exclusion import GAP, H, HALF, J_HI, J_LO, alpha, load, peak  # noqa: E402
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "waves-fig9"))
+sys.path.insert(0, HERE)
+from peak_exclusion import GAP, H, J_HI, J_LO, alpha, peak  # noqa: E402
+from line_rule import honesty, seed_runs  # noqa: E402
 
 
 def contrasts(p):
@@ -72,11 +75,7 @@ def main(argv):
     print(f"{figure} {point}: {what} alpha, bootstrap SE over runs ({b} resamples)")
     print("| seed folder | runs | peak j | contrast | bins removed | alpha | bootstrap SE | resamples with another peak | resamples removing bins |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for d in rest:
-        rows = load(d, point, figure)
-        if rows is None or len(rows) < 3:
-            print(f"| {d} | no runs of {point} |")
-            continue
+    for d, rows in seed_runs(rest, figure, point):
         n = len(rows)
         mean = rows.mean(0)
         j, c = fast_peak(mean)
@@ -94,14 +93,7 @@ def main(argv):
         vals.append((a, se))
         print(f"| {d} | {n} | {j} | {c:.3f} | {'yes' if rem else 'no'} | {a:.4f} | {se:.4f} | {moved} | {removing} |")
     if len(vals) >= 2:
-        a = np.array([v[0] for v in vals])
-        se = np.array([v[1] for v in vals])
-        w = 1 / se**2
-        pooled = (a * w).sum() / w.sum()
-        cover = np.mean(np.abs(a - pooled) <= 2 * se)
-        sd, rms = a.std(ddof=1), np.sqrt((se**2).mean())
-        print(f"\nseeds {len(vals)}: mean {a.mean():.4f}, SD {sd:.4f}, RMS SE {rms:.4f}, "
-              f"SD/SE {sd / rms:.2f}, coverage of +-2 SE {cover:.2f}, SE range {se.min():.4f}-{se.max():.4f}")
+        print(honesty(vals))
 
 
 if __name__ == "__main__":

@@ -48,6 +48,31 @@ def line_rule(rows):
     return a, se, j, c, line
 
 
+def seed_runs(dirs, figure, point):
+    """(folder, spectra) of each seed folder with at least 3 runs of `point`;
+    a table row saying so for the others."""
+    for d in dirs:
+        rows = load(d, point, figure)
+        if rows is None or len(rows) < 3:
+            print(f"| {d} | no runs of {point} |")
+            continue
+        yield d, rows
+
+
+def honesty(vals, extra=""):
+    """The summary line over the seeds' (alpha, SE, ...) tuples: mean, SD, RMS
+    SE, SD / RMS SE, coverage of +-2 SE around the inverse-variance pooled
+    value."""
+    a = np.array([v[0] for v in vals])
+    se = np.array([v[1] for v in vals])
+    w = 1 / se**2
+    pooled = (a * w).sum() / w.sum()
+    cover = np.mean(np.abs(a - pooled) <= 2 * se)
+    sd, rms = a.std(ddof=1), np.sqrt((se**2).mean())
+    return (f"\nseeds {len(vals)}{extra}: mean {a.mean():.4f}, SD {sd:.4f}, RMS SE {rms:.4f}, "
+            f"SD/SE {sd / rms:.2f}, coverage of +-2 SE {cover:.2f}, SE range {se.min():.4f}-{se.max():.4f}")
+
+
 def main(argv):
     if len(argv) < 3:
         sys.exit(__doc__.split("usage: ")[1].split("\n")[0])
@@ -56,24 +81,12 @@ def main(argv):
     print(f"{figure} {point}: threshold c*(n) = exp({Z}/sqrt(n))")
     print("| seed folder | runs | peak j | contrast | c*(n) | line | alpha | jackknife SE |")
     print("|---|---|---|---|---|---|---|---|")
-    for d in dirs:
-        rows = load(d, point, figure)
-        if rows is None or len(rows) < 3:
-            print(f"| {d} | no runs of {point} |")
-            continue
+    for d, rows in seed_runs(dirs, figure, point):
         a, se, j, c, line = line_rule(rows)
         vals.append((a, se, line))
         print(f"| {d} | {len(rows)} | {j} | {c:.3f} | {threshold(len(rows)):.3f} | {'yes' if line else 'no'} | {a:.4f} | {se:.4f} |")
     if len(vals) >= 2:
-        a = np.array([v[0] for v in vals])
-        se = np.array([v[1] for v in vals])
-        w = 1 / se**2
-        pooled = (a * w).sum() / w.sum()
-        cover = np.mean(np.abs(a - pooled) <= 2 * se)
-        sd, rms = a.std(ddof=1), np.sqrt((se**2).mean())
-        lines = sum(v[2] for v in vals)
-        print(f"\nseeds {len(vals)} (line in {lines}): mean {a.mean():.4f}, SD {sd:.4f}, RMS SE {rms:.4f}, "
-              f"SD/SE {sd / rms:.2f}, coverage of +-2 SE {cover:.2f}, SE range {se.min():.4f}-{se.max():.4f}")
+        print(honesty(vals, f" (line in {sum(v[2] for v in vals)})"))
 
 
 if __name__ == "__main__":

@@ -5,10 +5,13 @@
 # docs/acceptance/FIGURE/seed-N/FIGURE/, its timing in times.log and the
 # refreshed verdict table in stability.md.
 #
-#   docs/acceptance/run-seeds.sh FIGURE FIRST LAST [--threads N] [--work DIR] [--commit]
+#   docs/acceptance/run-seeds.sh FIGURE FIRST LAST [--threads N] [--work DIR] [--commit] [--refile]
 #
 # - A seed already filed is skipped; an interrupted seed resumes from the runs
 #   saved in DIR/seed-N (default DIR: target/acceptance/FIGURE).
+# - --refile runs filed seeds again and replaces their summaries (after a
+#   change of the analysis: where DIR/seed-N holds the runs, only the analysis
+#   reruns); times.log marks the line "refiled".
 # - Several machines share the work by taking disjoint seed ranges; copy their
 #   docs/acceptance/FIGURE/seed-N folders together and rerun
 #   `target/release/acceptance stability` (the last lines of this script).
@@ -18,18 +21,19 @@
 #   engine at this tier (fast for the pipe, the reference for the hopper).
 set -euo pipefail
 usage() {
-    echo "usage: $0 FIGURE FIRST LAST [--threads N] [--work DIR] [--commit]" >&2
+    echo "usage: $0 FIGURE FIRST LAST [--threads N] [--work DIR] [--commit] [--refile]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
 fig=$1 first=$2 last=$3
 shift 3
-threads=2 work="" commit=0
+threads=2 work="" commit=0 refile=0
 while [ $# -gt 0 ]; do
     case $1 in
         --threads) [ $# -ge 2 ] || usage; threads=$2; shift 2 ;;
         --work) [ $# -ge 2 ] || usage; work=$2; shift 2 ;;
         --commit) commit=1; shift ;;
+        --refile) refile=1; shift ;;
         *) usage ;;
     esac
 done
@@ -47,19 +51,23 @@ mkdir -p "$docs" "$work"
 TIMEFORMAT='%R %U %S'
 for s in $(seq "$first" "$last"); do
     filed=$docs/seed-$s/$fig/summary.json
-    [ -f "$filed" ] && { echo "seed $s: filed already, skipped"; continue; }
+    again=""
+    if [ -f "$filed" ]; then
+        [ $refile = 1 ] || { echo "seed $s: filed already, skipped"; continue; }
+        again=" refiled"
+    fi
     echo "seed $s: $bin --tier acceptance --seed $s --threads $threads --out $work/seed-$s"
     t=$({ time "$bin" --tier acceptance --seed "$s" --threads "$threads" --out "$work/seed-$s" \
         > "$work/seed-$s.log" 2>&1; } 2>&1) || { echo "seed $s failed: see $work/seed-$s.log" >&2; exit 1; }
     read -r wall user sys <<< "$t"
     mkdir -p "$(dirname "$filed")"
     cp "$work/seed-$s/$fig/summary.json" "$filed"
-    echo "seed $s wall $wall s cpu $user+$sys s" >> "$docs/times.log"
+    echo "seed $s$again wall $wall s cpu $user+$sys s" >> "$docs/times.log"
     target/release/acceptance stability --from "$docs" --figure "$fig" > "$docs/stability.md"
     echo "seed $s: filed (wall $wall s, cpu $user+$sys s)"
     if [ $commit = 1 ]; then
         git add "$filed" "$docs/times.log" "$docs/stability.md"
-        git commit -q -m "$fig acceptance seed $s" ||
+        git commit -q -m "$fig acceptance seed $s$again" ||
             echo "seed $s: git commit failed; the seed is filed, commit it by hand" >&2
     fi
 done
