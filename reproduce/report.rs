@@ -48,6 +48,15 @@ struct Args {
     /// small CSVs, a few MB in all.
     #[arg(long)]
     publish: Option<PathBuf>,
+    /// Do not run the figures: re-render the report from the summaries
+    /// already in --out (e.g. a published copy's folders).
+    #[arg(long)]
+    no_run: bool,
+    /// Committed seed sets, DIR/<binary>/<seed folder>/ (e.g.
+    /// docs/acceptance): the checks of the acceptance margin table are also
+    /// graded over every seed set of a figure that has at least 20.
+    #[arg(long, value_name = "DIR")]
+    seed_sets: Option<PathBuf>,
 }
 
 fn main() {
@@ -82,6 +91,8 @@ fn report() -> granular_automata::Result<()> {
         extra,
         bin_dir,
         command_line: std::env::args().collect::<Vec<_>>().join(" "),
+        no_run: a.no_run,
+        seed_sets: a.seed_sets,
     };
     let r = run(&opts)?;
     let dir = opts.out.join("report");

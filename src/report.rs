@@ -78,7 +78,19 @@ pub struct Options {
     pub bin_dir: PathBuf,
     /// The report's command line, as recorded in the stamp.
     pub command_line: String,
+    /// Do not run the figures: read the summaries already in `out`
+    /// (`--no-run`, to re-render a report or a published copy).
+    pub no_run: bool,
+    /// A folder of committed seed sets, `<dir>/<binary>/<seed folder>/`
+    /// (`--seed-sets`, e.g. `docs/acceptance`): the checks of the margin
+    /// table are also graded over every seed set of a figure that has at
+    /// least [`MIN_SEED_SETS`] ([`SeedSets`]).
+    pub seed_sets: Option<PathBuf>,
 }
+
+/// The fewest seed sets over which the report grades a check as one
+/// ensemble: the 20 base seeds of issue 29's stability study.
+pub const MIN_SEED_SETS: usize = 20;
 
 /// Every `[[bin]]` name of Cargo.toml, in file order.
 pub fn all_binaries() -> Vec<&'static str> {
@@ -310,6 +322,29 @@ pub struct Row {
     /// the summary's `cases` with `default_reading: false`, whose key
     /// prefixes the check's name); `None` for the default reading.
     pub reading: Option<String>,
+    /// The check over every committed seed set, when the report was given
+    /// `--seed-sets` and the figure has at least [`MIN_SEED_SETS`].
+    pub seed_sets: Option<SeedSets>,
+}
+
+/// A check graded over every committed seed set of its figure at the
+/// report's tier: the seeds' mean value with the SE of their spread, graded
+/// by the acceptance margin with n = seeds
+/// ([`crate::drivers::acceptance_study::all_seeds`]). The runs are the
+/// tier's, repeated over independent base seeds: what the power analysis
+/// asks of the claims one seed set cannot decide.
+#[derive(Debug, Clone, Serialize)]
+pub struct SeedSets {
+    /// Seed sets with a value.
+    pub seeds: usize,
+    /// Their mean.
+    pub measured: Option<f64>,
+    /// The SE of their spread.
+    pub error: Option<f64>,
+    /// reproduced | not-reproduced | undecided.
+    pub verdict: String,
+    /// Where the seed sets lie.
+    pub from: String,
 }
 
 /// The key of the non-default case of summary `s` (`params.cases`, or
@@ -360,6 +395,7 @@ impl Row {
             site_updates: finite(&s["site_updates"]),
             test: text(&c["claim"]["test"]),
             reading: other_reading(s, c["name"].as_str().unwrap_or("")),
+            seed_sets: None,
         }
     }
 
@@ -375,11 +411,32 @@ impl Row {
         self.is_published_claim() && self.reading.is_none()
     }
 
+    /// The verdict over every committed seed set where there is one, else
+    /// the verdict of this run.
+    pub fn final_verdict(&self) -> &str {
+        self.seed_sets
+            .as_ref()
+            .map_or(self.verdict.as_str(), |s| s.verdict.as_str())
+    }
+
     /// What would decide an undecided check under the grading rule (|d| +-
     /// k SE against the margin, k = max(2, Student t)): the number of runs
     /// at which it decides, taking the SE to shrink as 1/sqrt(n); or why no
-    /// run count does.
+    /// run count does. With the verdict over every committed seed set when
+    /// there is one ([`SeedSets`]).
     pub fn what_would_decide(&self) -> String {
+        let runs = self.runs_to_decide_note();
+        match &self.seed_sets {
+            Some(ss) => format!(
+                "{runs}; over {} committed seed sets: {}",
+                ss.seeds, ss.verdict
+            ),
+            None => runs,
+        }
+    }
+
+    /// [`Row::what_would_decide`] from this run alone.
+    fn runs_to_decide_note(&self) -> String {
         let (Some(x), Some(se), Some(margin)) = (self.measured, self.error, self.tolerance) else {
             return "no value with a standard error: more runs (at least 3)".into();
         };
@@ -683,6 +740,10 @@ pub fn run(opts: &Options) -> Result<Report> {
     let n = opts.figures.len();
     let mut runs = vec![];
     for (i, b) in opts.figures.iter().enumerate() {
+        if opts.no_run {
+            runs.push(summary_only(&opts.out, b));
+            continue;
+        }
         eprintln!(
             "report: [{}/{n}] {b} {}",
             i + 1,
@@ -696,9 +757,67 @@ pub fn run(opts: &Options) -> Result<Report> {
         runs.push(r);
     }
     let mut report = collect(opts, runs);
+    if opts.no_run {
+        report.preface.push(format!(
+            "Re-rendered with --no-run from the summaries in {}: the CPU and wall times are those of the runs that wrote them.",
+            opts.out.display()
+        ));
+    }
+    if let Some(dir) = &opts.seed_sets {
+        attach_seed_sets(&mut report, dir);
+    }
     report.stamp.wall_seconds = start.elapsed().as_secs_f64();
     write(&opts.out, &report)?;
     Ok(report)
+}
+
+/// Figure `binary` as found in `out` without running it (`--no-run`): ok
+/// when `out/<binary>/summary.json` exists, with that summary's wall time.
+fn summary_only(out: &Path, binary: &str) -> FigureRun {
+    let path = out.join(binary).join("summary.json");
+    let wall = std::fs::read_to_string(&path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+        .and_then(|s| finite(&s["wall_seconds"]));
+    FigureRun {
+        binary: binary.to_string(),
+        ok: path.is_file(),
+        failure: (!path.is_file()).then(|| format!("--no-run and no {} to read", path.display())),
+        stderr_tail: vec![],
+        wall_seconds: wall.unwrap_or(0.0),
+    }
+}
+
+/// Grade the checks of the margin table over every seed set in
+/// `dir/<binary>/` of the figures that have at least [`MIN_SEED_SETS`]
+/// ([`SeedSets`]). A figure without such a folder, or with an unreadable
+/// one, keeps its rows as they are.
+pub fn attach_seed_sets(report: &mut Report, dir: &Path) {
+    for f in &report.figures {
+        let b = &f.run.binary;
+        let from = dir.join(b);
+        let Ok((n, all)) = crate::drivers::acceptance_study::all_seeds(&from, b) else {
+            continue;
+        };
+        if n < MIN_SEED_SETS {
+            continue;
+        }
+        for a in all {
+            if let Some(row) = report
+                .rows
+                .iter_mut()
+                .find(|r| &r.binary == b && r.name == a.check)
+            {
+                row.seed_sets = Some(SeedSets {
+                    seeds: a.seeds,
+                    measured: a.estimate.map(|e| e.mean).filter(|x| x.is_finite()),
+                    error: a.estimate.map(|e| e.se).filter(|x| x.is_finite()),
+                    verdict: a.verdict.status().to_string(),
+                    from: from.display().to_string(),
+                });
+            }
+        }
+    }
 }
 
 /// Assemble the report from finished `runs` (reads their summaries).
@@ -1000,7 +1119,54 @@ fn headline(r: &Report) -> String {
     if c.kinds.contains_key("unstated") {
         s.push_str(" Checks of the older format state no kind: those with a published number count as published claims.");
     }
+    if let Some(t) = seed_sets_sentence(r) {
+        s.push(' ');
+        s.push_str(&t);
+    }
     s
+}
+
+/// The default reading's published claims with a verdict over every
+/// committed seed set ([`SeedSets`]).
+fn seed_set_rows(r: &Report) -> Vec<&Row> {
+    r.rows
+        .iter()
+        .filter(|x| x.is_default_claim() && x.seed_sets.is_some())
+        .collect()
+}
+
+/// The headline's count with the verdicts over every committed seed set
+/// where there are (None when there are none).
+fn seed_sets_sentence(r: &Report) -> Option<String> {
+    let rows = seed_set_rows(r);
+    if rows.is_empty() {
+        return None;
+    }
+    let changed = rows
+        .iter()
+        .filter(|x| x.final_verdict() != x.verdict)
+        .count();
+    let mut t = [0usize; 3];
+    for x in r.rows.iter().filter(|x| x.is_default_claim()) {
+        match x.final_verdict() {
+            "reproduced" => t[0] += 1,
+            "not-reproduced" => t[1] += 1,
+            _ => t[2] += 1,
+        }
+    }
+    let all = t[0] + t[1] + t[2];
+    let mut figures: Vec<&str> = rows.iter().map(|x| x.binary.as_str()).collect();
+    figures.dedup();
+    Some(format!(
+        "Graded over every committed seed set (at least {MIN_SEED_SETS} base seeds of this tier: {}), {} claims of the margin table get a verdict of all their runs, {changed} of them a different one; with those verdicts {} reproduced, {} not reproduced, {} undecided: {} of {all} decided ({:.1} %).",
+        figures.join(", "),
+        rows.len(),
+        t[0],
+        t[1],
+        t[2],
+        t[0] + t[1],
+        100.0 * (t[0] + t[1]) as f64 / all.max(1) as f64
+    ))
 }
 
 /// The default reading's published claims that are not reproduced.
@@ -1131,6 +1297,36 @@ pub fn markdown(r: &Report) -> String {
             b = f.run.binary,
             base = r.figures_base
         );
+    }
+    let ss = seed_set_rows(r);
+    if !ss.is_empty() {
+        let _ = writeln!(m, "\n## Over every committed seed set ({})\n", ss.len());
+        let _ = writeln!(
+            m,
+            "The claims of the acceptance margin table whose figure has at least {MIN_SEED_SETS} committed seed sets at this tier: the seeds' mean with the SE of their spread, graded by the same rule with n = seeds. \"This run\" is the verdict of this report's own seed set.\n"
+        );
+        let _ = writeln!(
+            m,
+            "| figure | check | this run | seed sets | mean +- SE | published (margin) | verdict over the seed sets |"
+        );
+        let _ = writeln!(m, "|---|---|---|---|---|---|---|");
+        for x in ss {
+            let s = x.seed_sets.as_ref().expect("filtered");
+            let _ = writeln!(
+                m,
+                "| {} {} (`{}`) | `{}` | {} | {} | {} +- {} | {} | **{}** |",
+                x.paper,
+                x.figure,
+                x.binary,
+                x.name,
+                x.verdict,
+                s.seeds,
+                num(s.measured),
+                num(s.error),
+                published(x),
+                s.verdict
+            );
+        }
     }
     let d = discrepancies(r);
     let _ = writeln!(m, "\n## Known discrepancies ({})\n", d.len());
@@ -1293,9 +1489,15 @@ fn top_stamp(r: &Report) -> String {
 }
 
 /// The command that regenerates a report run as `command_line`: build,
-/// then the same arguments from the clone's `target/release/`.
+/// then the same arguments from the clone's `target/release/` (without
+/// `--no-run`: from a clone the figures must run).
 pub fn regenerate(command_line: &str) -> String {
-    let args: Vec<&str> = command_line.split_whitespace().skip(1).collect();
+    // a re-rendering (--no-run) is regenerated by the run it re-renders
+    let args: Vec<&str> = command_line
+        .split_whitespace()
+        .skip(1)
+        .filter(|a| *a != "--no-run")
+        .collect();
     format!(
         "cargo build --release --bins && target/release/report {}",
         args.join(" ")
@@ -1438,6 +1640,30 @@ pub fn html(r: &Report) -> String {
         );
     }
     let _ = writeln!(h, "</tbody>\n</table></div>");
+    let ss = seed_set_rows(r);
+    if !ss.is_empty() {
+        let _ = writeln!(h, "<h2>Over every committed seed set ({})</h2>\n<p>The claims of the acceptance margin table whose figure has at least {MIN_SEED_SETS} committed seed sets at this tier: the seeds' mean with the SE of their spread, graded by the same rule with n = seeds. &ldquo;This run&rdquo; is the verdict of this report's own seed set.</p>\n<div class=\"scroll\"><table>\n<thead><tr><th>figure</th><th>check</th><th>this run</th><th>seed sets</th><th>mean &plusmn; SE</th><th>published (margin)</th><th>verdict over the seed sets</th></tr></thead>\n<tbody>", ss.len());
+        for x in ss {
+            let s = x.seed_sets.as_ref().expect("filtered");
+            let _ = writeln!(
+                h,
+                "<tr><td>{} {} (<code>{}</code>)</td><td><code>{}</code></td><td class=\"{}\">{}</td><td class=\"num\">{}</td><td class=\"num\">{} &plusmn; {}</td><td class=\"num\">{}</td><td class=\"{}\"><b>{}</b></td></tr>",
+                esc(&x.paper),
+                esc(&x.figure),
+                esc(&x.binary),
+                esc(&x.name),
+                esc(&x.verdict),
+                esc(&x.verdict),
+                s.seeds,
+                num(s.measured),
+                num(s.error),
+                esc(&published(x)),
+                esc(&s.verdict),
+                esc(&s.verdict)
+            );
+        }
+        let _ = writeln!(h, "</tbody>\n</table></div>");
+    }
     let d = discrepancies(r);
     let _ = writeln!(h, "<h2>Known discrepancies ({})</h2>", d.len());
     let _ = writeln!(h, "<p>Published claims of the default reading not reproduced at this tier, each with the mechanism its check records; the explanations are in <a href=\"{}\">EXPERIMENTS.md, Known discrepancies</a>.</p>\n<ul>", esc(&r.discrepancy_link));
@@ -1740,6 +1966,8 @@ mod tests {
             extra: BTreeMap::new(),
             bin_dir: PathBuf::from("."),
             command_line: String::new(),
+            no_run: false,
+            seed_sets: None,
         };
         assert!(figure_args(&opts, "fig2").ends_with(&["--engine".into(), "fast".into()]));
         assert!(!figure_args(&opts, "hopper-fig3").contains(&"--engine".to_string()));

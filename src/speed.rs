@@ -365,6 +365,8 @@ fn run_one(plan: &Plan, key: &Key, tier: Tier, engine: &str, dir: &Path) -> Resu
         extra: BTreeMap::from([(key.figure.to_string(), extra)]),
         bin_dir: plan.bin_dir.clone(),
         command_line: String::new(),
+        no_run: false,
+        seed_sets: None,
     };
     let r = run_figure(&opts, key.figure);
     if !r.ok {

@@ -192,3 +192,91 @@ fn an_unknown_engine_is_a_typed_error_up_front() {
     assert!(err.contains("gpu") && err.contains("fast"), "{err}");
     assert!(!out.join("hopper-fig2").exists(), "nothing ran");
 }
+
+/// `--no-run` re-renders from the summaries in `--out` without running a
+/// figure, and `--seed-sets` grades the margin table's checks over every
+/// committed seed set of a figure that has at least 20 (issue 29): here a
+/// fig2 alpha undecided in its own seed set and decided over 20.
+#[test]
+fn no_run_re_renders_and_seed_sets_grade_over_all_seeds() {
+    let out = fresh("no-run");
+    let sets = fresh("seed-sets");
+    let summary = |alpha: f64, se: f64, verdict: &str| {
+        serde_json::json!({"figure": "fig2", "paper": "PH94 Fig. 2", "tier": "acceptance",
+            "rules": "r", "wall_seconds": 12.5, "checks": [
+            {"name": "alpha", "kind": "published", "verdict": verdict, "measured": alpha,
+             "error": se, "runs": 128, "published": 1.33, "tolerance": 0.059,
+             "claim": {"test": "within"}},
+            {"name": "v_peak", "kind": "published", "verdict": "reproduced", "measured": 0.395,
+             "error": 0.0007, "runs": 128, "published": 0.40, "tolerance": 0.007,
+             "claim": {"test": "within"}}]})
+        .to_string()
+    };
+    std::fs::create_dir_all(out.join("fig2")).unwrap();
+    std::fs::write(
+        out.join("fig2/summary.json"),
+        summary(1.256, 0.011, "undecided"),
+    )
+    .unwrap();
+    // 19 seed sets first: too few to grade over
+    let seed = |s: u32| {
+        let d = sets.join(format!("fig2/seed-{s}/fig2"));
+        std::fs::create_dir_all(&d).unwrap();
+        let alpha = 1.2634 + 0.0116 * ((s as f64) - 10.5) / 5.9;
+        std::fs::write(d.join("summary.json"), summary(alpha, 0.011, "undecided")).unwrap();
+    };
+    (1..=19).for_each(seed);
+    let no_run = |extra: &[&str]| {
+        Command::new(EXE)
+            .args([
+                "--tier",
+                "acceptance",
+                "--only",
+                "fig2",
+                "--no-run",
+                "--out",
+            ])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let run = |extra: &[&str]| {
+        let o = no_run(extra);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        read(out.join("report/REPORT.md"))
+    };
+    let sets_arg = sets.display().to_string();
+    let md = run(&["--seed-sets", &sets_arg]);
+    assert!(md.contains("Re-rendered with --no-run"), "{md}");
+    assert!(md.contains("| 12.5 s"), "the summary's wall time: {md}");
+    assert!(!md.contains("Over every committed seed set"), "{md}");
+    assert!(
+        md.contains("1 of 2 published claims") && !md.contains("with those verdicts"),
+        "{md}"
+    );
+    // the regenerate command runs the figures
+    assert!(!md.contains("Regenerate: `cargo build --release --bins && target/release/report --tier acceptance --only fig2 --no-run"), "{md}");
+    seed(20);
+    let md = run(&["--seed-sets", &sets_arg]);
+    assert!(md.contains("## Over every committed seed set (2)"), "{md}");
+    assert!(
+        md.contains("| PH94 Fig. 2 (`fig2`) | `alpha` | undecided | 20 |"),
+        "{md}"
+    );
+    assert!(md.contains("| **not-reproduced** |"), "{md}");
+    assert!(
+        md.contains("with those verdicts 1 reproduced, 1 not reproduced, 0 undecided: 2 of 2 decided (100.0 %)"),
+        "{md}"
+    );
+    assert!(
+        md.contains("over 20 committed seed sets: not-reproduced"),
+        "{md}"
+    );
+    // without --seed-sets the rows are this run's
+    assert!(!run(&[]).contains("Over every committed seed set"));
+    // --no-run without a summary: the figure is reported as failed
+    std::fs::remove_file(out.join("fig2/summary.json")).unwrap();
+    assert!(!no_run(&[]).status.success());
+    assert!(read(out.join("report/REPORT.md")).contains("--no-run and no"));
+}

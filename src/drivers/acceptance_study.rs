@@ -11,7 +11,7 @@ use crate::analysis::fit::{
     default_peak_half_width, exclude_peak, find_peak_contrast, fit_power_law, wave_velocity,
     PowerLawParams,
 };
-use crate::analysis::grading::Estimate;
+use crate::analysis::grading::{Estimate, Verdict};
 use crate::analysis::mean_spectrum::{
     alpha_of_mean, refined_peak, v_of_mean, v_of_mean_refined, BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED,
 };
@@ -20,6 +20,7 @@ use crate::analysis::spectrum::{spctrm, SpectrumParams, Window};
 use crate::error::Result;
 use crate::run::median;
 use serde::Serialize;
+use std::collections::BTreeMap;
 
 use super::acceptance::margin;
 use super::spectra::{bin_series, resumable_ensemble, tier_setup, SpectrumRun, SpectrumSetup};
@@ -317,18 +318,19 @@ pub fn power(summary: &std::path::Path) -> Result<(String, usize)> {
     Ok((out, pick))
 }
 
-/// The verdicts of every check of `figure` over the base seeds whose
-/// summaries lie in `from/<seed folder>/<figure>/summary.json` (or
-/// `from/<seed folder>/summary.json`): a Markdown
-/// table with, per check, the seeds, the verdict counts, the share of the
-/// most common verdict, the mean value and mean SE, and the coverage of
-/// value +- 2 SE around the inverse-variance pooled value of all seeds.
+/// The checks of `figure` over the base seeds whose summaries lie in
+/// `from/<seed folder>/<figure>/summary.json` (or
+/// `from/<seed folder>/summary.json`): the number of seed folders, and per
+/// check its (verdict, value, SE) at each seed, in folder order.
 ///
 /// Errors: an unreadable folder or summary ([`crate::ErrorKind::Io`],
 /// [`crate::ErrorKind::BadSeries`]), or no summary at all.
-pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
+#[allow(clippy::type_complexity)]
+fn seed_checks(
+    from: &std::path::Path,
+    figure: &str,
+) -> Result<(usize, BTreeMap<String, Vec<(String, f64, f64)>>)> {
     use crate::error::{Error, ErrorKind};
-    use std::collections::BTreeMap;
     let mut dirs: Vec<_> = std::fs::read_dir(from)
         .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", from.display())))?
         .filter_map(|e| {
@@ -374,9 +376,75 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
                 ));
         }
     }
+    Ok((dirs.len(), rows))
+}
+
+/// One check of the acceptance margin table over every seed set: the mean
+/// of the seeds' values with the SE of their spread (n = seeds), graded by
+/// the check's margin ([`margin`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct AllSeeds {
+    /// Check name.
+    pub check: String,
+    /// Seed sets with a finite value.
+    pub seeds: usize,
+    /// Their mean and the SE of their spread; `None` when no seed has a
+    /// value.
+    pub estimate: Option<Estimate>,
+    /// The published value of the margin table.
+    pub published: f64,
+    /// Its margin Delta.
+    pub delta: f64,
+    /// The verdict (undecided when no seed has a value).
+    pub verdict: Verdict,
+}
+
+/// The checks of the margin table graded over all seed sets (see
+/// [`AllSeeds`]); checks without a margin are left out.
+fn all_seeds_of(figure: &str, rows: &BTreeMap<String, Vec<(String, f64, f64)>>) -> Vec<AllSeeds> {
+    rows.iter()
+        .filter_map(|(name, v)| {
+            let m = margin(figure, name)?;
+            let values: Vec<f64> = v.iter().map(|r| r.1).filter(|x| x.is_finite()).collect();
+            let estimate = (!values.is_empty()).then(|| Estimate::of(&values));
+            Some(AllSeeds {
+                check: name.clone(),
+                seeds: values.len(),
+                estimate,
+                published: m.published,
+                delta: m.delta(),
+                verdict: estimate.map_or(Verdict::Undecided, |e| {
+                    crate::analysis::grading::grade(e, m.claim())
+                }),
+            })
+        })
+        .collect()
+}
+
+/// The number of seed folders of `figure` under `from` (as [`stability`]
+/// finds them) and its checks of the margin table graded over all of them
+/// ([`AllSeeds`]).
+///
+/// Errors: as [`stability`].
+pub fn all_seeds(from: &std::path::Path, figure: &str) -> Result<(usize, Vec<AllSeeds>)> {
+    let (n, rows) = seed_checks(from, figure)?;
+    Ok((n, all_seeds_of(figure, &rows)))
+}
+
+/// The verdicts of every check of `figure` over the base seeds whose
+/// summaries lie in `from/<seed folder>/<figure>/summary.json` (or
+/// `from/<seed folder>/summary.json`): a Markdown
+/// table with, per check, the seeds, the verdict counts, the share of the
+/// most common verdict, the mean value and mean SE, and the coverage of
+/// value +- 2 SE around the inverse-variance pooled value of all seeds;
+/// then the checks of the margin table over all seeds ([`all_seeds`]).
+///
+/// Errors: an unreadable folder or summary ([`crate::ErrorKind::Io`],
+/// [`crate::ErrorKind::BadSeries`]), or no summary at all.
+pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
+    let (seeds, rows) = seed_checks(from, figure)?;
     let mut out = format!(
-        "{figure}: {} base seeds ({})\n\n| check | seeds | reproduced | not reproduced | undecided | modal share | mean value | mean SE | pooled | coverage of +-2 SE |\n|---|---|---|---|---|---|---|---|---|---|\n",
-        dirs.len(),
+        "{figure}: {seeds} base seeds ({})\n\n| check | seeds | reproduced | not reproduced | undecided | modal share | mean value | mean SE | pooled | coverage of +-2 SE |\n|---|---|---|---|---|---|---|---|---|---|\n",
         from.display()
     );
     for (name, v) in &rows {
@@ -425,35 +493,27 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
     // all seeds together: the mean of the seeds' values with the SE of their
     // spread (n = seeds), graded by the acceptance margin
     let mut pooled = String::new();
-    for (name, v) in &rows {
-        let Some(m) = super::acceptance::margin(figure, name) else {
-            continue;
-        };
-        let values: Vec<f64> = v.iter().map(|r| r.1).filter(|x| x.is_finite()).collect();
-        if values.is_empty() {
-            pooled.push_str(&format!(
+    for a in all_seeds_of(figure, &rows) {
+        let name = &a.check;
+        match a.estimate {
+            None => pooled.push_str(&format!(
                 "| {name} | 0 | n/a (no seed has a value) | {} +- {:.4} | undecided |\n",
-                m.published,
-                m.delta()
-            ));
-            continue;
+                a.published, a.delta
+            )),
+            Some(est) => pooled.push_str(&format!(
+                "| {name} | {} | {:.4} +- {:.4} | {} +- {:.4} | {} |\n",
+                est.n,
+                est.mean,
+                est.se,
+                a.published,
+                a.delta,
+                a.verdict.status()
+            )),
         }
-        let est = Estimate::of(&values);
-        let verdict = crate::analysis::grading::grade(est, m.claim());
-        pooled.push_str(&format!(
-            "| {name} | {} | {:.4} +- {:.4} | {} +- {:.4} | {} |\n",
-            est.n,
-            est.mean,
-            est.se,
-            m.published,
-            m.delta(),
-            verdict.status()
-        ));
     }
     if !pooled.is_empty() {
         out.push_str(&format!(
-            "\nAll {} seeds as one ensemble (the mean of the seeds' values, the SE of their spread, graded with n = seeds):\n\n| check | seeds | value | claim | verdict |\n|---|---|---|---|---|\n{pooled}",
-            dirs.len()
+            "\nAll {seeds} seeds as one ensemble (the mean of the seeds' values, the SE of their spread, graded with n = seeds):\n\n| check | seeds | value | claim | verdict |\n|---|---|---|---|---|\n{pooled}"
         ));
     }
     Ok(out)
