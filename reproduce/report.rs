@@ -53,8 +53,8 @@ struct Args {
     #[arg(long)]
     no_run: bool,
     /// Committed seed sets, DIR/<binary>/<seed folder>/ (e.g.
-    /// docs/acceptance): the checks of the acceptance margin table are also
-    /// graded over every seed set of a figure that has at least 20.
+    /// docs/acceptance): the published checks are also graded over every seed
+    /// set of a figure that has at least 20.
     #[arg(long, value_name = "DIR")]
     seed_sets: Option<PathBuf>,
 }

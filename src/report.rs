@@ -82,9 +82,9 @@ pub struct Options {
     /// (`--no-run`, to re-render a report or a published copy).
     pub no_run: bool,
     /// A folder of committed seed sets, `<dir>/<binary>/<seed folder>/`
-    /// (`--seed-sets`, e.g. `docs/acceptance`): the checks of the margin
-    /// table are also graded over every seed set of a figure that has at
-    /// least [`MIN_SEED_SETS`] ([`SeedSets`]).
+    /// (`--seed-sets`, e.g. `docs/acceptance`): the published checks are
+    /// also graded over every seed set of a figure that has at least
+    /// [`MIN_SEED_SETS`] ([`SeedSets`]).
     pub seed_sets: Option<PathBuf>,
 }
 
@@ -329,7 +329,7 @@ pub struct Row {
 
 /// A check graded over every committed seed set of its figure at the
 /// report's tier: the seeds' mean value with the SE of their spread, graded
-/// by the acceptance margin with n = seeds
+/// with n = seeds by the acceptance margin or the claim the seeds state
 /// ([`crate::drivers::acceptance_study::all_seeds`]). The runs are the
 /// tier's, repeated over independent base seeds: what the power analysis
 /// asks of the claims one seed set cannot decide.
@@ -788,7 +788,7 @@ fn summary_only(out: &Path, binary: &str) -> FigureRun {
     }
 }
 
-/// Grade the checks of the margin table over every seed set in
+/// Grade the published checks over every seed set in
 /// `dir/<binary>/` of the figures that have at least [`MIN_SEED_SETS`]
 /// ([`SeedSets`]). A figure without such a folder, or with an unreadable
 /// one, keeps its rows as they are.
@@ -1158,7 +1158,7 @@ fn seed_sets_sentence(r: &Report) -> Option<String> {
     let mut figures: Vec<&str> = rows.iter().map(|x| x.binary.as_str()).collect();
     figures.dedup();
     Some(format!(
-        "Graded over every committed seed set (at least {MIN_SEED_SETS} base seeds of this tier: {}), {} claims of the margin table get a verdict of all their runs, {changed} of them a different one; with those verdicts {} reproduced, {} not reproduced, {} undecided: {} of {all} decided ({:.1} %).",
+        "Graded over every committed seed set (at least {MIN_SEED_SETS} base seeds of this tier: {}), {} published claims get a verdict of all their runs, {changed} of them a different one; with those verdicts {} reproduced, {} not reproduced, {} undecided: {} of {all} decided ({:.1} %).",
         figures.join(", "),
         rows.len(),
         t[0],
@@ -1303,7 +1303,7 @@ pub fn markdown(r: &Report) -> String {
         let _ = writeln!(m, "\n## Over every committed seed set ({})\n", ss.len());
         let _ = writeln!(
             m,
-            "The claims of the acceptance margin table whose figure has at least {MIN_SEED_SETS} committed seed sets at this tier: the seeds' mean with the SE of their spread, graded by the same rule with n = seeds. \"This run\" is the verdict of this report's own seed set.\n"
+            "The published claims whose figure has at least {MIN_SEED_SETS} committed seed sets at this tier: the seeds' mean with the SE of their spread, graded by the same rule with n = seeds (against the acceptance margin table, or else the claim every seed's summary states). \"This run\" is the verdict of this report's own seed set.\n"
         );
         let _ = writeln!(
             m,
@@ -1642,7 +1642,7 @@ pub fn html(r: &Report) -> String {
     let _ = writeln!(h, "</tbody>\n</table></div>");
     let ss = seed_set_rows(r);
     if !ss.is_empty() {
-        let _ = writeln!(h, "<h2>Over every committed seed set ({})</h2>\n<p>The claims of the acceptance margin table whose figure has at least {MIN_SEED_SETS} committed seed sets at this tier: the seeds' mean with the SE of their spread, graded by the same rule with n = seeds. &ldquo;This run&rdquo; is the verdict of this report's own seed set.</p>\n<div class=\"scroll\"><table>\n<thead><tr><th>figure</th><th>check</th><th>this run</th><th>seed sets</th><th>mean &plusmn; SE</th><th>published (margin)</th><th>verdict over the seed sets</th></tr></thead>\n<tbody>", ss.len());
+        let _ = writeln!(h, "<h2>Over every committed seed set ({})</h2>\n<p>The published claims whose figure has at least {MIN_SEED_SETS} committed seed sets at this tier: the seeds' mean with the SE of their spread, graded by the same rule with n = seeds (against the acceptance margin table, or else the claim every seed's summary states). &ldquo;This run&rdquo; is the verdict of this report's own seed set.</p>\n<div class=\"scroll\"><table>\n<thead><tr><th>figure</th><th>check</th><th>this run</th><th>seed sets</th><th>mean &plusmn; SE</th><th>published (margin)</th><th>verdict over the seed sets</th></tr></thead>\n<tbody>", ss.len());
         for x in ss {
             let s = x.seed_sets.as_ref().expect("filtered");
             let _ = writeln!(

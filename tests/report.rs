@@ -194,7 +194,7 @@ fn an_unknown_engine_is_a_typed_error_up_front() {
 }
 
 /// `--no-run` re-renders from the summaries in `--out` without running a
-/// figure, and `--seed-sets` grades the margin table's checks over every
+/// figure, and `--seed-sets` grades the published checks over every
 /// committed seed set of a figure that has at least 20 (issue 29): here a
 /// fig2 alpha undecided in its own seed set and decided over 20.
 #[test]

@@ -11,7 +11,7 @@ use crate::analysis::fit::{
     default_peak_half_width, exclude_peak, find_peak_contrast, fit_power_law, wave_velocity,
     PowerLawParams,
 };
-use crate::analysis::grading::{Estimate, Verdict};
+use crate::analysis::grading::{Claim, Estimate, Verdict};
 use crate::analysis::mean_spectrum::{
     alpha_of_mean, refined_peak, v_of_mean, v_of_mean_refined, BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED,
 };
@@ -318,18 +318,24 @@ pub fn power(summary: &std::path::Path) -> Result<(String, usize)> {
     Ok((out, pick))
 }
 
+/// The checks of `figure` over its seed folders ([`seed_checks`]).
+struct SeedChecks {
+    /// The number of seed folders.
+    seeds: usize,
+    /// Per check, its (verdict, value, SE) at each seed, in folder order.
+    rows: BTreeMap<String, Vec<(String, f64, f64)>>,
+    /// Per published check, the claim its summaries state, when every seed
+    /// states the same one.
+    claims: BTreeMap<String, Claim>,
+}
+
 /// The checks of `figure` over the base seeds whose summaries lie in
 /// `from/<seed folder>/<figure>/summary.json` (or
-/// `from/<seed folder>/summary.json`): the number of seed folders, and per
-/// check its (verdict, value, SE) at each seed, in folder order.
+/// `from/<seed folder>/summary.json`).
 ///
 /// Errors: an unreadable folder or summary ([`crate::ErrorKind::Io`],
 /// [`crate::ErrorKind::BadSeries`]), or no summary at all.
-#[allow(clippy::type_complexity)]
-fn seed_checks(
-    from: &std::path::Path,
-    figure: &str,
-) -> Result<(usize, BTreeMap<String, Vec<(String, f64, f64)>>)> {
+fn seed_checks(from: &std::path::Path, figure: &str) -> Result<SeedChecks> {
     use crate::error::{Error, ErrorKind};
     let mut dirs: Vec<_> = std::fs::read_dir(from)
         .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", from.display())))?
@@ -361,12 +367,21 @@ fn seed_checks(
     }
     // check -> [(verdict, value, se)]
     let mut rows: BTreeMap<String, Vec<(String, f64, f64)>> = BTreeMap::new();
+    // check -> the claim of each seed (None: not a published claim)
+    let mut stated: BTreeMap<String, Vec<Option<Claim>>> = BTreeMap::new();
     for path in &dirs {
         let text = std::fs::read_to_string(path)
             .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", path.display())))?;
         let s: serde_json::Value = serde_json::from_str(&text)
             .map_err(|e| Error::new(ErrorKind::BadSeries, format!("{}: {e}", path.display())))?;
         for c in s["checks"].as_array().into_iter().flatten() {
+            let claim = (c["kind"] == "published")
+                .then(|| serde_json::from_value::<Claim>(c["claim"].clone()).ok())
+                .flatten();
+            stated
+                .entry(c["name"].as_str().unwrap_or("?").to_string())
+                .or_default()
+                .push(claim);
             rows.entry(c["name"].as_str().unwrap_or("?").to_string())
                 .or_default()
                 .push((
@@ -376,12 +391,26 @@ fn seed_checks(
                 ));
         }
     }
-    Ok((dirs.len(), rows))
+    let claims = stated
+        .into_iter()
+        .filter_map(|(name, cs)| {
+            let first = cs.first().copied().flatten()?;
+            cs.iter()
+                .all(|c| *c == Some(first))
+                .then_some((name, first))
+        })
+        .collect();
+    Ok(SeedChecks {
+        seeds: dirs.len(),
+        rows,
+        claims,
+    })
 }
 
-/// One check of the acceptance margin table over every seed set: the mean
-/// of the seeds' values with the SE of their spread (n = seeds), graded by
-/// the check's margin ([`margin`]).
+/// One published check over every seed set: the mean of the seeds' values
+/// with the SE of their spread (n = seeds), graded by the check's margin in
+/// the acceptance table ([`margin`]) or else by the claim its summaries
+/// state.
 #[derive(Debug, Clone, Serialize)]
 pub struct AllSeeds {
     /// Check name.
@@ -391,30 +420,44 @@ pub struct AllSeeds {
     /// Their mean and the SE of their spread; `None` when no seed has a
     /// value.
     pub estimate: Option<Estimate>,
-    /// The published value of the margin table.
-    pub published: f64,
-    /// Its margin Delta.
-    pub delta: f64,
+    /// The claim graded.
+    pub claim: Claim,
     /// The verdict (undecided when no seed has a value).
     pub verdict: Verdict,
 }
 
-/// The checks of the margin table graded over all seed sets (see
-/// [`AllSeeds`]); checks without a margin are left out.
-fn all_seeds_of(figure: &str, rows: &BTreeMap<String, Vec<(String, f64, f64)>>) -> Vec<AllSeeds> {
-    rows.iter()
+impl AllSeeds {
+    /// The claim in a table cell: `target +- margin`, `> threshold` or
+    /// `< threshold`.
+    pub fn claim_cell(&self) -> String {
+        match self.claim {
+            Claim::Within { target, margin } => format!("{target} +- {margin:.4}"),
+            Claim::Above { threshold } => format!("> {threshold}"),
+            Claim::Below { threshold } => format!("< {threshold}"),
+        }
+    }
+}
+
+/// The published checks graded over all seed sets (see [`AllSeeds`]);
+/// checks with neither a margin nor one claim stated by every seed are left
+/// out.
+fn all_seeds_of(figure: &str, checks: &SeedChecks) -> Vec<AllSeeds> {
+    checks
+        .rows
+        .iter()
         .filter_map(|(name, v)| {
-            let m = margin(figure, name)?;
+            let claim = margin(figure, name)
+                .map(|m| m.claim())
+                .or_else(|| checks.claims.get(name).copied())?;
             let values: Vec<f64> = v.iter().map(|r| r.1).filter(|x| x.is_finite()).collect();
             let estimate = (!values.is_empty()).then(|| Estimate::of(&values));
             Some(AllSeeds {
                 check: name.clone(),
                 seeds: values.len(),
                 estimate,
-                published: m.published,
-                delta: m.delta(),
+                claim,
                 verdict: estimate.map_or(Verdict::Undecided, |e| {
-                    crate::analysis::grading::grade(e, m.claim())
+                    crate::analysis::grading::grade(e, claim)
                 }),
             })
         })
@@ -422,13 +465,13 @@ fn all_seeds_of(figure: &str, rows: &BTreeMap<String, Vec<(String, f64, f64)>>) 
 }
 
 /// The number of seed folders of `figure` under `from` (as [`stability`]
-/// finds them) and its checks of the margin table graded over all of them
+/// finds them) and its published checks graded over all of them
 /// ([`AllSeeds`]).
 ///
 /// Errors: as [`stability`].
 pub fn all_seeds(from: &std::path::Path, figure: &str) -> Result<(usize, Vec<AllSeeds>)> {
-    let (n, rows) = seed_checks(from, figure)?;
-    Ok((n, all_seeds_of(figure, &rows)))
+    let checks = seed_checks(from, figure)?;
+    Ok((checks.seeds, all_seeds_of(figure, &checks)))
 }
 
 /// The verdicts of every check of `figure` over the base seeds whose
@@ -437,17 +480,18 @@ pub fn all_seeds(from: &std::path::Path, figure: &str) -> Result<(usize, Vec<All
 /// table with, per check, the seeds, the verdict counts, the share of the
 /// most common verdict, the mean value and mean SE, and the coverage of
 /// value +- 2 SE around the inverse-variance pooled value of all seeds;
-/// then the checks of the margin table over all seeds ([`all_seeds`]).
+/// then the published checks over all seeds ([`all_seeds`]).
 ///
 /// Errors: an unreadable folder or summary ([`crate::ErrorKind::Io`],
 /// [`crate::ErrorKind::BadSeries`]), or no summary at all.
 pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
-    let (seeds, rows) = seed_checks(from, figure)?;
+    let checks = seed_checks(from, figure)?;
+    let (seeds, rows) = (checks.seeds, &checks.rows);
     let mut out = format!(
         "{figure}: {seeds} base seeds ({})\n\n| check | seeds | reproduced | not reproduced | undecided | modal share | mean value | mean SE | pooled | coverage of +-2 SE |\n|---|---|---|---|---|---|---|---|---|---|\n",
         from.display()
     );
-    for (name, v) in &rows {
+    for (name, v) in rows {
         let count = |w: &str| v.iter().filter(|r| r.0 == w).count();
         let (yes, no, und) = (
             count("reproduced"),
@@ -493,20 +537,19 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
     // all seeds together: the mean of the seeds' values with the SE of their
     // spread (n = seeds), graded by the acceptance margin
     let mut pooled = String::new();
-    for a in all_seeds_of(figure, &rows) {
+    for a in all_seeds_of(figure, &checks) {
         let name = &a.check;
         match a.estimate {
             None => pooled.push_str(&format!(
-                "| {name} | 0 | n/a (no seed has a value) | {} +- {:.4} | undecided |\n",
-                a.published, a.delta
+                "| {name} | 0 | n/a (no seed has a value) | {} | undecided |\n",
+                a.claim_cell()
             )),
             Some(est) => pooled.push_str(&format!(
-                "| {name} | {} | {:.4} +- {:.4} | {} +- {:.4} | {} |\n",
+                "| {name} | {} | {:.4} +- {:.4} | {} | {} |\n",
                 est.n,
                 est.mean,
                 est.se,
-                a.published,
-                a.delta,
+                a.claim_cell(),
                 a.verdict.status()
             )),
         }
@@ -873,6 +916,14 @@ mod tests {
                 {"name": "alpha", "verdict": verdict, "measured": x, "error": 0.01},
                 {"name": "line", "verdict": "reproduced", "measured": 0.5, "error": 0.0},
                 {"name": "wave_runs", "verdict": "undecided", "measured": null, "error": null},
+                // graded over the seeds by the claim the summaries state
+                {"name": "rises", "kind": "published", "verdict": "undecided", "measured": x - 1.0,
+                 "error": 0.2, "claim": {"test": "above", "threshold": 0.0}},
+                // not a published claim, or a claim the seeds do not agree on: left out
+                {"name": "pinned", "kind": "pinned", "verdict": "reproduced", "measured": x,
+                 "error": 0.01, "claim": {"test": "above", "threshold": 0.0}},
+                {"name": "moving", "kind": "published", "verdict": "reproduced", "measured": x,
+                 "error": 0.01, "claim": {"test": "above", "threshold": x - 1.0}},
             ]});
             std::fs::write(d.join("summary.json"), s.to_string()).unwrap();
         };
@@ -901,6 +952,19 @@ mod tests {
             "{t}"
         );
         assert!(!t.contains("NaN"), "{t}");
+        // all seeds as one: 0.28 +- 0.0117 over 4 seeds clears 0 (each seed alone does not)
+        assert!(
+            t.contains("| rises | 4 | 0.2800 +- 0.0117 | > 0 | reproduced |"),
+            "{t}"
+        );
+        assert!(
+            t.contains("| alpha | 4 | 1.2800 +- 0.0117 | 1.33 +- 0.0590 |"),
+            "{t}"
+        );
+        assert!(
+            !t.contains("| pinned | 4 | 1.") && !t.contains("| moving | 4 | 1."),
+            "{t}"
+        );
         assert!(stability(&dir, "nothing").is_err());
         std::fs::write(dir.join("empty/summary.json"), "{").unwrap();
         assert!(stability(&dir, "fig2").is_err());
