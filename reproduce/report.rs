@@ -69,6 +69,15 @@ fn main() {
 fn report() -> granular_automata::Result<()> {
     let a = Args::parse();
     let figures = select(a.only.as_deref())?;
+    if let Some(d) = a.seed_sets.as_ref().filter(|d| !d.is_dir()) {
+        return Err(granular_automata::Error::new(
+            granular_automata::ErrorKind::InvalidParameter,
+            format!(
+                "--seed-sets {}: not a folder; give the folder of committed seed sets, e.g. docs/acceptance",
+                d.display()
+            ),
+        ));
+    }
     if let Some(e) = &a.engine {
         e.parse::<granular_automata::pipe::Engine>()?;
     }

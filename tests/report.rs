@@ -275,6 +275,10 @@ fn no_run_re_renders_and_seed_sets_grade_over_all_seeds() {
     );
     // without --seed-sets the rows are this run's
     assert!(!run(&[]).contains("Over every committed seed set"));
+    // a --seed-sets folder that does not exist is an error naming it
+    let o = no_run(&["--seed-sets", "/no/such/folder"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--seed-sets /no/such/folder"));
     // --no-run without a summary: the figure is reported as failed
     std::fs::remove_file(out.join("fig2/summary.json")).unwrap();
     assert!(!no_run(&[]).status.success());
