@@ -764,7 +764,14 @@ pub fn run(opts: &Options) -> Result<Report> {
         ));
     }
     if let Some(dir) = &opts.seed_sets {
-        attach_seed_sets(&mut report, dir);
+        let (matched, said) = attach_seed_sets(&mut report, &opts.out, dir);
+        if !matched.is_empty() {
+            report.preface.push(format!(
+                "Graded over committed seed sets where this run's own seed set equals its committed twin in every check and metric (so the code at hand computes what they hold): {}.",
+                matched.join(", ")
+            ));
+        }
+        report.preface.extend(said);
     }
     report.stamp.wall_seconds = start.elapsed().as_secs_f64();
     write(&opts.out, &report)?;
@@ -790,17 +797,59 @@ fn summary_only(out: &Path, binary: &str) -> FigureRun {
 
 /// Grade the published checks over every seed set in
 /// `dir/<binary>/` of the figures that have at least [`MIN_SEED_SETS`]
-/// ([`SeedSets`]). A figure without such a folder, or with an unreadable
-/// one, keeps its rows as they are.
-pub fn attach_seed_sets(report: &mut Report, dir: &Path) {
+/// ([`SeedSets`]), when the figure's own run in `out` is one of those seed
+/// sets, result for result
+/// ([`crate::drivers::acceptance_study::committed_twin`]): so the committed
+/// seed sets are graded only where the code at hand is shown to compute
+/// what they hold. Returns the figures so graded, each with the committed
+/// summary its run matched, and one sentence per figure whose seed sets
+/// were not graded, saying why. A figure without such a folder, or with an unreadable one, keeps
+/// its rows as they are.
+pub fn attach_seed_sets(report: &mut Report, out: &Path, dir: &Path) -> (Vec<String>, Vec<String>) {
+    use crate::drivers::acceptance_study::{all_seeds, committed_twin, Twin};
+    let (mut matched, mut said) = (vec![], vec![]);
     for f in &report.figures {
         let b = &f.run.binary;
         let from = dir.join(b);
-        let Ok((n, all)) = crate::drivers::acceptance_study::all_seeds(&from, b) else {
+        let Ok((n, all)) = all_seeds(&from, b) else {
             continue;
         };
         if n < MIN_SEED_SETS {
             continue;
+        }
+        let summary = std::fs::read_to_string(out.join(b).join("summary.json"))
+            .ok()
+            .and_then(|t| serde_json::from_str::<Value>(&t).ok());
+        let twin = summary.map(|s| committed_twin(&from, b, &s));
+        match twin {
+            Some(Ok(Twin::Identical { committed })) => {
+                matched.push(format!("{b} ({n}; {})", committed.display()))
+            }
+            Some(Ok(Twin::Differs { committed, what })) => {
+                said.push(format!(
+                    "{b}: NOT graded over its {n} committed seed sets: this run has the runs of {} but other results ({what}), so the code that wrote them computes otherwise; refile them (docs/acceptance/run-seeds.sh --refile).",
+                    committed.display()
+                ));
+                continue;
+            }
+            Some(Ok(Twin::NotAmong)) => {
+                said.push(format!(
+                    "{b}: not graded over its {n} committed seed sets in {}: none has this run's seeds (base seed or tier), so none shows the code at hand computes what they hold.",
+                    from.display()
+                ));
+                continue;
+            }
+            Some(Err(e)) => {
+                said.push(format!("{b}: not graded over its seed sets: {e}"));
+                continue;
+            }
+            None => {
+                said.push(format!(
+                    "{b}: not graded over its seed sets: no readable {}",
+                    out.join(b).join("summary.json").display()
+                ));
+                continue;
+            }
         }
         for a in all {
             if let Some(row) = report
@@ -818,6 +867,32 @@ pub fn attach_seed_sets(report: &mut Report, dir: &Path) {
             }
         }
     }
+    (matched, said)
+}
+
+/// One line per published check graded over committed seed sets, for the
+/// terminal: the verdict over the seed sets, then this run's.
+pub fn seed_set_lines(r: &Report) -> Vec<String> {
+    r.rows
+        .iter()
+        .filter_map(|x| {
+            let s = x.seed_sets.as_ref()?;
+            let num = |v: Option<f64>| v.map_or("no value".to_string(), |v| format!("{v:.4}"));
+            Some(format!(
+                "[{}] {} {} over {} seed sets: {} +- {} (this run: {} {} +- {}, {} runs)",
+                s.verdict.to_uppercase(),
+                x.binary,
+                x.name,
+                s.seeds,
+                num(s.measured),
+                num(s.error),
+                x.verdict,
+                num(x.measured),
+                num(x.error),
+                x.runs.map_or("?".to_string(), |n| n.to_string()),
+            ))
+        })
+        .collect()
 }
 
 /// Assemble the report from finished `runs` (reads their summaries).

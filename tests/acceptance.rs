@@ -6,6 +6,11 @@
 //! seed 1 in EXPERIMENTS.md "Acceptance at the published set-ups" (with the
 //! stability of each verdict over 20 base seeds). A change to the model, an
 //! engine or the analysis that flips a verdict, or moves a value, fails here.
+//! Each test also checks that its run is, result for result, the committed
+//! seed set 1 of docs/acceptance, and asserts the verdicts over all 20
+//! committed seed sets (what `report --seed-sets docs/acceptance` prints):
+//! a change that alters a result also shows that the committed seed sets
+//! need refiling.
 //!
 //! Cost on two cores: fig2 about 290 CPU-s (128 runs of 2.6 million steps),
 //! waves-fig6 about 260 CPU-s (128 runs), waves-fig7 about 60 CPU-s (8 runs
@@ -16,6 +21,30 @@
 mod common;
 
 use common::verdict;
+use granular_automata::drivers::acceptance_study::{all_seeds, committed_twin, Twin};
+use std::collections::BTreeMap;
+
+/// The published checks of summary `s` graded over every committed seed set
+/// of its figure in docs/acceptance (check -> verdict), once `s` is shown to
+/// be its committed twin: the same seeds and the same results.
+fn over_seed_sets(s: &serde_json::Value) -> BTreeMap<String, String> {
+    let fig = s["figure"].as_str().expect("figure");
+    let from = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("docs/acceptance")
+        .join(fig);
+    match committed_twin(&from, fig, s).unwrap() {
+        Twin::Identical { .. } => {}
+        other => panic!(
+            "{fig}: this run is not its committed seed set ({other:?}): refile {} (docs/acceptance/run-seeds.sh --refile)",
+            from.display()
+        ),
+    }
+    let (n, all) = all_seeds(&from, fig).unwrap();
+    assert!(n >= 20, "{fig}: {n} committed seed sets");
+    all.into_iter()
+        .map(|a| (a.check, a.verdict.status().to_string()))
+        .collect()
+}
 
 /// A recorded value: `measured` of check `name` equals `value` to 1e-9
 /// (runs are pure functions of seed, rules and engine: the same bytes).
@@ -55,6 +84,11 @@ fn ph94_fig2_at_the_published_set_up_alpha_undecided_v_reproduced() {
     // v = 0.40 +- 0.007: see EXPERIMENTS for its stability over seeds
     assert_eq!(verdict(&s, "v_peak"), "reproduced");
     assert_value(&s, "v_peak", V_SEED1.0, V_SEED1.1);
+    // over the 20 committed seed sets (2560 runs): alpha 1.2634 +- 0.0026
+    // not reproduced, v 0.3949 +- 0.0001 reproduced
+    let over = over_seed_sets(&s);
+    assert_eq!(over["alpha"], "not-reproduced");
+    assert_eq!(over["v_peak"], "reproduced");
 }
 
 #[test]
@@ -74,6 +108,7 @@ fn ph95_fig6_at_the_published_set_up_alpha_undecided() {
     // reproduced); all 2560 runs decide it not reproduced (1.2945 +- 0.0014)
     assert_eq!(verdict(&s, "alpha"), "undecided");
     assert_value(&s, "alpha", FIG6_ALPHA_SEED1.0, FIG6_ALPHA_SEED1.1);
+    assert_eq!(over_seed_sets(&s)["alpha"], "not-reproduced");
 }
 
 /// alpha and its bootstrap SE of `waves-fig6 --tier acceptance --seed 1`
@@ -101,6 +136,10 @@ fn ph95_fig7_at_the_published_set_up_not_white_with_the_line_at_one_half() {
     assert_eq!(verdict(&s, "alpha_p0"), "not-reproduced");
     assert_eq!(verdict(&s, "alpha_b0"), "not-reproduced");
     assert_eq!(verdict(&s, "v_peak_b0"), "reproduced");
+    let over = over_seed_sets(&s);
+    let names = ["alpha_p0", "alpha_b0", "v_peak_b0"];
+    let verdicts: Vec<&str> = names.iter().map(|n| over[*n].as_str()).collect();
+    assert_eq!(verdicts, ["not-reproduced", "not-reproduced", "reproduced"]);
 }
 
 /// |v| and its SE, and the speed difference and its SE, of `waves-fig5
@@ -131,6 +170,10 @@ fn ph95_fig5_at_the_published_set_up_speed_not_reproduced_speeds_coincide() {
     assert_value(&s, "speeds_agree", FIG5_SEED1[1].0, FIG5_SEED1[1].1);
     // without runs that form bands the conditional variants cannot be graded
     assert_eq!(verdict(&s, "speeds_agree_wave_runs"), "undecided");
+    let over = over_seed_sets(&s);
+    assert_eq!(over["wave_speed"], "not-reproduced");
+    assert_eq!(over["speeds_agree"], "reproduced");
+    assert_eq!(over["speeds_agree_wave_runs"], "undecided");
 }
 
 /// The flat-spectrum slope and its jackknife SE, and the rate ratio
@@ -191,6 +234,30 @@ fn bb90_fig3_at_the_published_set_up_rate_steady_spectrum_flat_not_white_at_lag_
     for name in ["beta1_bond_white_lag1", "beta0_white_lag1"] {
         assert_eq!(verdict(&s, name), "not-reproduced", "{name}");
     }
+    // over the 20 committed seed sets: the same verdicts, but for the flat
+    // spectrum at beta = 0, which they decide reproduced
+    let over = over_seed_sets(&s);
+    assert_eq!(over["beta0_white_spectrum"], "reproduced");
+    assert_same_over_seed_sets(&s, &over, &["beta0_white_spectrum"]);
+}
+
+/// Every published check of `s` with a claim to grade (a number, not only
+/// the words of the paper) has the same verdict over the committed seed
+/// sets (`over`) as in `s`, except those named in `but`.
+fn assert_same_over_seed_sets(
+    s: &serde_json::Value,
+    over: &BTreeMap<String, String>,
+    but: &[&str],
+) {
+    let published = s["checks"].as_array().expect("checks").iter();
+    let published = published.filter(|c| c["kind"] == "published" && c["claim"].is_object());
+    let mut seen = 0;
+    for c in published.filter(|c| !but.contains(&c["name"].as_str().unwrap())) {
+        let name = c["name"].as_str().unwrap();
+        assert_eq!(Some(&verdict(s, name)), over.get(name), "{name}");
+        seen += 1;
+    }
+    assert!(seen > 0);
 }
 
 /// Seed 1 of BB90 Fig. 2's one claim the default reading does not reproduce:
@@ -246,4 +313,6 @@ fn bb90_fig2_at_the_published_set_up_every_claim_but_the_vertical_core() {
     assert_eq!(verdict(&s, name), "not-reproduced");
     let (value, error) = BB90_FIG2_VERTICAL_SEED1;
     assert_value(&s, name, value, error);
+    // the same 17 verdicts over the 20 committed seed sets
+    assert_same_over_seed_sets(&s, &over_seed_sets(&s), &[]);
 }

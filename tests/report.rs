@@ -196,14 +196,17 @@ fn an_unknown_engine_is_a_typed_error_up_front() {
 /// `--no-run` re-renders from the summaries in `--out` without running a
 /// figure, and `--seed-sets` grades the published checks over every
 /// committed seed set of a figure that has at least 20 (issue 29): here a
-/// fig2 alpha undecided in its own seed set and decided over 20.
+/// fig2 alpha undecided in its own seed set and decided over 20. The seed
+/// sets are graded only when the run's own seed set equals its committed
+/// twin (same seeds) result for result: a run that differs from it, or whose
+/// seeds none has, is not graded over them, and says why.
 #[test]
 fn no_run_re_renders_and_seed_sets_grade_over_all_seeds() {
     let out = fresh("no-run");
     let sets = fresh("seed-sets");
-    let summary = |alpha: f64, se: f64, verdict: &str| {
+    let summary = |alpha: f64, se: f64, verdict: &str, seed: u32| {
         serde_json::json!({"figure": "fig2", "paper": "PH94 Fig. 2", "tier": "acceptance",
-            "rules": "r", "wall_seconds": 12.5, "checks": [
+            "rules": "r", "wall_seconds": 12.5, "seeds": [seed, seed + 100], "checks": [
             {"name": "alpha", "kind": "published", "verdict": verdict, "measured": alpha,
              "error": se, "runs": 128, "published": 1.33, "tolerance": 0.059,
              "claim": {"test": "within"}},
@@ -212,18 +215,26 @@ fn no_run_re_renders_and_seed_sets_grade_over_all_seeds() {
              "claim": {"test": "within"}}]})
         .to_string()
     };
+    let alpha = |s: u32| 1.2634 + 0.0116 * ((s as f64) - 10.5) / 5.9;
+    // this run is seed set 1
     std::fs::create_dir_all(out.join("fig2")).unwrap();
-    std::fs::write(
-        out.join("fig2/summary.json"),
-        summary(1.256, 0.011, "undecided"),
-    )
-    .unwrap();
+    let this_run = |alpha: f64, seed: u32| {
+        std::fs::write(
+            out.join("fig2/summary.json"),
+            summary(alpha, 0.011, "undecided", seed),
+        )
+        .unwrap()
+    };
+    this_run(alpha(1), 1);
     // 19 seed sets first: too few to grade over
     let seed = |s: u32| {
         let d = sets.join(format!("fig2/seed-{s}/fig2"));
         std::fs::create_dir_all(&d).unwrap();
-        let alpha = 1.2634 + 0.0116 * ((s as f64) - 10.5) / 5.9;
-        std::fs::write(d.join("summary.json"), summary(alpha, 0.011, "undecided")).unwrap();
+        std::fs::write(
+            d.join("summary.json"),
+            summary(alpha(s), 0.011, "undecided", s),
+        )
+        .unwrap();
     };
     (1..=19).for_each(seed);
     let no_run = |extra: &[&str]| {
@@ -273,6 +284,33 @@ fn no_run_re_renders_and_seed_sets_grade_over_all_seeds() {
         md.contains("over 20 committed seed sets: not-reproduced"),
         "{md}"
     );
+    assert!(
+        md.contains("this run's own seed set equals its committed twin")
+            && md.contains("fig2 (20; "),
+        "{md}"
+    );
+    let o = no_run(&["--seed-sets", &sets_arg]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("[NOT-REPRODUCED] fig2 alpha over 20 seed sets: 1.2634 +- 0.0026 (this run: undecided 1.2447 +- 0.0110, 128 runs)"),
+        "{stdout}"
+    );
+    // seed set 1's runs with another alpha: the code computes otherwise, so
+    // the committed seed sets are not graded
+    this_run(alpha(1) + 1e-12, 1);
+    let md = run(&["--seed-sets", &sets_arg]);
+    assert!(!md.contains("Over every committed seed set"), "{md}");
+    assert!(
+        md.contains("fig2: NOT graded over its 20 committed seed sets")
+            && md.contains("check alpha: measured"),
+        "{md}"
+    );
+    // seeds that no committed seed set has: not graded either
+    this_run(alpha(1), 21);
+    let md = run(&["--seed-sets", &sets_arg]);
+    assert!(!md.contains("Over every committed seed set"), "{md}");
+    assert!(md.contains("none has this run's seeds"), "{md}");
+    this_run(alpha(1), 1);
     // without --seed-sets the rows are this run's
     assert!(!run(&[]).contains("Over every committed seed set"));
     // a --seed-sets folder that does not exist is an error naming it

@@ -329,13 +329,13 @@ struct SeedChecks {
     claims: BTreeMap<String, Claim>,
 }
 
-/// The checks of `figure` over the base seeds whose summaries lie in
-/// `from/<seed folder>/<figure>/summary.json` (or
-/// `from/<seed folder>/summary.json`).
+/// The summaries of `figure`'s seed folders in `from`, sorted:
+/// `from/<seed folder>/<figure>/summary.json`, or
+/// `from/<seed folder>/summary.json` when that summary names the figure.
 ///
-/// Errors: an unreadable folder or summary ([`crate::ErrorKind::Io`],
-/// [`crate::ErrorKind::BadSeries`]), or no summary at all.
-fn seed_checks(from: &std::path::Path, figure: &str) -> Result<SeedChecks> {
+/// Errors: an unreadable folder ([`crate::ErrorKind::Io`]), or no summary at
+/// all ([`crate::ErrorKind::InvalidParameter`]).
+fn seed_summaries(from: &std::path::Path, figure: &str) -> Result<Vec<std::path::PathBuf>> {
     use crate::error::{Error, ErrorKind};
     let mut dirs: Vec<_> = std::fs::read_dir(from)
         .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", from.display())))?
@@ -365,6 +365,18 @@ fn seed_checks(from: &std::path::Path, figure: &str) -> Result<SeedChecks> {
             format!("{}: no */{figure}/summary.json", from.display()),
         ));
     }
+    Ok(dirs)
+}
+
+/// The checks of `figure` over the base seeds whose summaries lie in
+/// `from/<seed folder>/<figure>/summary.json` (or
+/// `from/<seed folder>/summary.json`).
+///
+/// Errors: an unreadable folder or summary ([`crate::ErrorKind::Io`],
+/// [`crate::ErrorKind::BadSeries`]), or no summary at all.
+fn seed_checks(from: &std::path::Path, figure: &str) -> Result<SeedChecks> {
+    use crate::error::{Error, ErrorKind};
+    let dirs = seed_summaries(from, figure)?;
     // check -> [(verdict, value, se)]
     let mut rows: BTreeMap<String, Vec<(String, f64, f64)>> = BTreeMap::new();
     // check -> the claim of each seed (None: not a published claim)
@@ -472,6 +484,95 @@ fn all_seeds_of(figure: &str, checks: &SeedChecks) -> Vec<AllSeeds> {
 pub fn all_seeds(from: &std::path::Path, figure: &str) -> Result<(usize, Vec<AllSeeds>)> {
     let checks = seed_checks(from, figure)?;
     Ok((checks.seeds, all_seeds_of(figure, &checks)))
+}
+
+/// How a summary of `figure` stands to the committed seed sets in `from`
+/// ([`committed_twin`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Twin {
+    /// A committed seed set has the same runs (the same `seeds`) and the same
+    /// results: every check's value, SE, verdict and claim, and every metric,
+    /// that both have.
+    Identical {
+        /// The committed summary.
+        committed: std::path::PathBuf,
+    },
+    /// A committed seed set has the same runs but other results: the code
+    /// that wrote the committed seed sets computes otherwise.
+    Differs {
+        /// The committed summary.
+        committed: std::path::PathBuf,
+        /// The first difference, e.g. `check alpha: measured 1.26 against 1.25`.
+        what: String,
+    },
+    /// No committed seed set has the summary's runs.
+    NotAmong,
+}
+
+/// The fields of a summary that are its results, which two runs of the same
+/// seeds must share: the set-up's names, every metric, and every check's
+/// value, SE, verdict and claim (not timing, notes, sources, nor `params`,
+/// which lists the cases a run chose with `--cases`).
+fn results_of(s: &serde_json::Value) -> BTreeMap<String, serde_json::Value> {
+    let mut out = BTreeMap::new();
+    for k in ["figure", "tier", "rules", "engine", "seeds"] {
+        out.insert(k.to_string(), s[k].clone());
+    }
+    for (k, v) in s["metrics"].as_object().into_iter().flatten() {
+        out.insert(format!("metric {k}"), v.clone());
+    }
+    for c in s["checks"].as_array().into_iter().flatten() {
+        let name = c["name"].as_str().unwrap_or("?");
+        for k in ["measured", "error", "verdict", "claim", "runs", "kind"] {
+            out.insert(format!("check {name}: {k}"), c[k].clone());
+        }
+    }
+    out
+}
+
+/// Whether `summary` (a figure's summary.json, as read) is one of the
+/// committed seed sets of `figure` in `from` ([`seed_summaries`]): the
+/// committed seed set with the same `seeds` and tier, compared result by
+/// result over the results both have ([`Twin`]; a run of more `--cases`
+/// than the committed one has more checks, each case seeing the same
+/// seeds). A recomputed seed set identical to its committed twin shows
+/// that the code at hand computes what the committed seed sets hold, so
+/// grading over them grades this code.
+///
+/// Errors: as [`stability`].
+pub fn committed_twin(
+    from: &std::path::Path,
+    figure: &str,
+    summary: &serde_json::Value,
+) -> Result<Twin> {
+    use crate::error::{Error, ErrorKind};
+    for path in seed_summaries(from, figure)? {
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", path.display())))?;
+        let c: serde_json::Value = serde_json::from_str(&text)
+            .map_err(|e| Error::new(ErrorKind::BadSeries, format!("{}: {e}", path.display())))?;
+        if c["seeds"] != summary["seeds"] || c["tier"] != summary["tier"] {
+            continue;
+        }
+        let (mine, theirs) = (results_of(summary), results_of(&c));
+        let shared = theirs.keys().filter(|k| mine.contains_key(*k));
+        let checks = shared.clone().filter(|k| k.starts_with("check ")).count();
+        let what = shared
+            .clone()
+            .find(|k| mine[*k] != theirs[*k])
+            .map(|k| format!("{k}: {} here against {} committed", mine[k], theirs[k]))
+            .or_else(|| {
+                (checks == 0).then(|| "no check in common with the committed one".to_string())
+            });
+        return Ok(match what {
+            None => Twin::Identical { committed: path },
+            Some(what) => Twin::Differs {
+                committed: path,
+                what,
+            },
+        });
+    }
+    Ok(Twin::NotAmong)
 }
 
 /// The verdicts of every check of `figure` over the base seeds whose
