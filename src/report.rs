@@ -767,7 +767,8 @@ pub fn run(opts: &Options) -> Result<Report> {
         let (matched, said) = attach_seed_sets(&mut report, &opts.out, dir);
         if !matched.is_empty() {
             report.preface.push(format!(
-                "Graded over committed seed sets where this run's own seed set equals its committed twin in every check and metric (so the code at hand computes what they hold): {}.",
+                "Graded over committed seed sets ({}) where this run's own seed set equals its committed twin in every check and metric, so the code at hand computes what they hold: {}.",
+                dir.display(),
                 matched.join(", ")
             ));
         }
@@ -823,7 +824,15 @@ pub fn attach_seed_sets(report: &mut Report, out: &Path, dir: &Path) -> (Vec<Str
         let twin = summary.map(|s| committed_twin(&from, b, &s));
         match twin {
             Some(Ok(Twin::Identical { committed })) => {
-                matched.push(format!("{b} ({n}; {})", committed.display()))
+                // the seed folder, e.g. `seed-1`
+                let folder = committed
+                    .strip_prefix(&from)
+                    .ok()
+                    .and_then(|p| p.components().next())
+                    .map_or(committed.display().to_string(), |c| {
+                        c.as_os_str().to_string_lossy().into_owned()
+                    });
+                matched.push(format!("{b} ({folder} of {n})"))
             }
             Some(Ok(Twin::Differs { committed, what })) => {
                 said.push(format!(

@@ -286,7 +286,7 @@ fn no_run_re_renders_and_seed_sets_grade_over_all_seeds() {
     );
     assert!(
         md.contains("this run's own seed set equals its committed twin")
-            && md.contains("fig2 (20; "),
+            && md.contains("fig2 (seed-1 of 20)"),
         "{md}"
     );
     let o = no_run(&["--seed-sets", &sets_arg]);
