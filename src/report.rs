@@ -1176,13 +1176,15 @@ fn list(m: &BTreeMap<String, usize>) -> String {
 
 fn headline(r: &Report) -> String {
     let c = counts(r);
-    let readings = c
-        .readings
+    // readings that differ only past the cut (e.g. the hopper's figure
+    // set-up, rain sigma 12 or 18) are counted as one
+    let mut short: BTreeMap<String, usize> = BTreeMap::new();
+    for (k, v) in &c.readings {
+        *short.entry(shorten(k, 70)).or_default() += v;
+    }
+    let readings = short
         .iter()
-        .map(|(k, v)| {
-            let k = shorten(k, 70);
-            format!("`{k}` ({v} figure{})", if *v == 1 { "" } else { "s" })
-        })
+        .map(|(k, v)| format!("`{k}` ({v} figure{})", if *v == 1 { "" } else { "s" }))
         .collect::<Vec<_>>()
         .join(", ");
     let failed = r.figures.iter().filter(|f| !f.run.ok).count();
