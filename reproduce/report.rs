@@ -110,8 +110,11 @@ fn report() -> granular_automata::Result<()> {
         seed_sets: a.seed_sets,
     };
     let r = run(&opts)?;
-    for line in r.preface.iter().filter(|_| opts.seed_sets.is_some()) {
-        println!("{line}");
+    if opts.seed_sets.is_some() {
+        // the page's preface, which says which seed sets were graded and why not
+        for line in &r.preface {
+            println!("{line}");
+        }
     }
     for line in granular_automata::report::seed_set_lines(&r) {
         println!("{line}");

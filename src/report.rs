@@ -802,18 +802,25 @@ fn summary_only(out: &Path, binary: &str) -> FigureRun {
 /// sets, result for result
 /// ([`crate::drivers::acceptance_study::committed_twin`]): so the committed
 /// seed sets are graded only where the code at hand is shown to compute
-/// what they hold. Returns the figures so graded, each with the committed
-/// summary its run matched, and one sentence per figure whose seed sets
-/// were not graded, saying why. A figure without such a folder, or with an unreadable one, keeps
-/// its rows as they are.
+/// what they hold. Returns the figures so graded, each with the seed folder
+/// its run matched, and one sentence per figure whose seed sets were not
+/// graded, saying why (also for an unreadable folder). A figure without
+/// such a folder keeps its rows as they are.
 pub fn attach_seed_sets(report: &mut Report, out: &Path, dir: &Path) -> (Vec<String>, Vec<String>) {
     use crate::drivers::acceptance_study::{all_seeds, committed_twin, Twin};
     let (mut matched, mut said) = (vec![], vec![]);
     for f in &report.figures {
         let b = &f.run.binary;
         let from = dir.join(b);
-        let Ok((n, all)) = all_seeds(&from, b) else {
-            continue;
+        let (n, all) = match all_seeds(&from, b) {
+            Ok(x) => x,
+            // a figure without seed sets says nothing; an unreadable one says why
+            Err(e) => {
+                if from.is_dir() {
+                    said.push(format!("{b}: not graded over its seed sets: {e}"));
+                }
+                continue;
+            }
         };
         if n < MIN_SEED_SETS {
             continue;

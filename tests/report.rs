@@ -311,6 +311,14 @@ fn no_run_re_renders_and_seed_sets_grade_over_all_seeds() {
     assert!(!md.contains("Over every committed seed set"), "{md}");
     assert!(md.contains("none has this run's seeds"), "{md}");
     this_run(alpha(1), 1);
+    // an unreadable committed summary: not graded, and the page says why
+    let broken = sets.join("fig2/seed-21/fig2");
+    std::fs::create_dir_all(&broken).unwrap();
+    std::fs::write(broken.join("summary.json"), "{broken").unwrap();
+    let md = run(&["--seed-sets", &sets_arg]);
+    assert!(!md.contains("Over every committed seed set"), "{md}");
+    assert!(md.contains("fig2: not graded over its seed sets: "), "{md}");
+    std::fs::remove_dir_all(sets.join("fig2/seed-21")).unwrap();
     // without --seed-sets the rows are this run's
     assert!(!run(&[]).contains("Over every committed seed set"));
     // a --seed-sets folder that does not exist is an error naming it
