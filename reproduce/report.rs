@@ -5,9 +5,8 @@
 //!
 //! `cargo build --release --bins && target/release/report --tier quick`
 //!
-//! PH94 Fig. 2 at the published set-up, graded over its 20 committed seed
-//! sets once this run's seed set is shown equal to its committed twin (about
-//! 2 min on 2 cores):
+//! PH94 Fig. 2 graded over its 20 committed seed sets once this run equals
+//! its committed twin (about 2 min on 2 cores):
 //! `target/release/report --tier acceptance --only fig2 --seed-sets docs/acceptance --out results-acceptance`
 
 use clap::Parser;
@@ -111,7 +110,7 @@ fn report() -> granular_automata::Result<()> {
     };
     let r = run(&opts)?;
     if opts.seed_sets.is_some() {
-        // the page's preface, which says which seed sets were graded and why not
+        // the preface says which seed sets were graded, and why not
         for line in &r.preface {
             println!("{line}");
         }
