@@ -10,8 +10,8 @@
 use granular_automata::cli::PipeArgs;
 use granular_automata::drivers::dependence::{checks as claim_checks, fig10_claims, G_LOW};
 use granular_automata::drivers::sweep::{
-    fig7_check, rise_check, sweep_chart, Curve, PointResult, Quantity, SweepFigure, SweepPoint,
-    FIG7_QUICK_ALPHA_B0,
+    fig7_check, fig7_reference, rise_check, sweep_chart, Curve, Fig7Case, PointResult, Quantity,
+    SweepFigure, SweepPoint,
 };
 use granular_automata::pipe::Params;
 use serde_json::json;
@@ -133,7 +133,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         fig7_check(
             "b0_matches_waves_fig7",
             b0,
-            FIG7_QUICK_ALPHA_B0,
+            fig7_reference(tier, Fig7Case::B0),
             "b = 0, p = 0.5",
         ),
         rise_check("alpha_rises_with_b", b0, bmid, "b = 0", "b = 0.5"),

@@ -12,8 +12,8 @@ use granular_automata::cli::PipeArgs;
 use granular_automata::drivers::acceptance::fig8_margin;
 use granular_automata::drivers::margins::{ALPHA_MARGIN, V_SAME_MARGIN};
 use granular_automata::drivers::sweep::{
-    fig7_check, plot_alpha_v, points_1d, rise_check, same_as_check, Curve, Quantity, SweepFigure,
-    FIG7_QUICK_ALPHA_P0, FIG8_P,
+    fig7_check, fig7_reference, plot_alpha_v, points_1d, rise_check, same_as_check, Curve,
+    Fig7Case, Quantity, SweepFigure, FIG8_P,
 };
 use granular_automata::pipe::Params;
 use serde_json::json;
@@ -89,7 +89,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         fig7_check(
             "p0_matches_waves_fig7",
             r0,
-            FIG7_QUICK_ALPHA_P0,
+            fig7_reference(args.common.tier, Fig7Case::P0),
             "p = 0, b = 0.5",
         ),
         rise_check("alpha_rises_with_p", r0, r5, "p = 0", "p = 0.5"),

@@ -316,3 +316,27 @@ fn bb90_fig2_at_the_published_set_up_every_claim_but_the_vertical_core() {
     // the same 17 verdicts over the 20 committed seed sets
     assert_same_over_seed_sets(&s, &over_seed_sets(&s), &[]);
 }
+
+/// The acceptance-tier reference of the sweeps' pinned checks
+/// (`b0_matches_waves_fig7`, `p0_matches_waves_fig7`) is what the committed
+/// PH95 Fig. 7 seed sets hold: their mean and the SE of their spread, to the
+/// four digits the reference keeps. A refiled Fig. 7 that moves alpha fails
+/// here until the reference follows.
+#[test]
+fn the_sweeps_fig7_reference_is_the_committed_fig7_seed_sets() {
+    use granular_automata::drivers::sweep::{fig7_reference, Fig7Case};
+    use granular_automata::run::Tier;
+    let (seeds, all) = all_seeds(
+        std::path::Path::new("docs/acceptance/waves-fig7"),
+        "waves-fig7",
+    )
+    .unwrap();
+    assert_eq!(seeds, 20);
+    for (check, case) in [("alpha_p0", Fig7Case::P0), ("alpha_b0", Fig7Case::B0)] {
+        let e = all.iter().find(|a| a.check == check).unwrap();
+        let e = e.estimate.unwrap();
+        let r = fig7_reference(Tier::Acceptance, case);
+        let four = |x: f64| (x * 1e4).round() / 1e4;
+        assert_eq!((four(e.mean), four(e.se)), (r.alpha, r.se), "{check}");
+    }
+}
