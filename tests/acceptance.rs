@@ -326,11 +326,8 @@ fn bb90_fig2_at_the_published_set_up_every_claim_but_the_vertical_core() {
 fn the_sweeps_fig7_reference_is_the_committed_fig7_seed_sets() {
     use granular_automata::drivers::sweep::{fig7_reference, Fig7Case};
     use granular_automata::run::Tier;
-    let (seeds, all) = all_seeds(
-        std::path::Path::new("docs/acceptance/waves-fig7"),
-        "waves-fig7",
-    )
-    .unwrap();
+    let from = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/acceptance/waves-fig7");
+    let (seeds, all) = all_seeds(&from, "waves-fig7").unwrap();
     assert_eq!(seeds, 20);
     for (check, case) in [("alpha_p0", Fig7Case::P0), ("alpha_b0", Fig7Case::B0)] {
         let e = all.iter().find(|a| a.check == check).unwrap();
