@@ -645,6 +645,14 @@ pub fn stability(from: &std::path::Path, figure: &str) -> Result<String> {
                 "| {name} | 0 | n/a (no seed has a value) | {} | undecided |\n",
                 a.claim_cell()
             )),
+            // one seed has no spread: say so rather than print NaN
+            Some(est) if !est.se.is_finite() => pooled.push_str(&format!(
+                "| {name} | {} | {:.4} +- n/a (no spread of one seed) | {} | {} |\n",
+                est.n,
+                est.mean,
+                a.claim_cell(),
+                a.verdict.status()
+            )),
             Some(est) => pooled.push_str(&format!(
                 "| {name} | {} | {:.4} +- {:.4} | {} | {} |\n",
                 est.n,
@@ -1066,6 +1074,20 @@ mod tests {
             !t.contains("| pinned | 4 | 1.") && !t.contains("| moving | 4 | 1."),
             "{t}"
         );
+        // one seed alone: its value, no spread, undecided, and no NaN
+        let one = dir.join("one");
+        std::fs::create_dir_all(one.join("seed-1")).unwrap();
+        std::fs::copy(
+            dir.join("seed-1/fig2/summary.json"),
+            one.join("seed-1/summary.json"),
+        )
+        .unwrap();
+        let t1 = stability(&one, "fig2").unwrap();
+        assert!(
+            t1.contains("| alpha | 1 | 1.2650 +- n/a (no spread of one seed) | 1.33 +- 0.0590 | undecided |"),
+            "{t1}"
+        );
+        assert!(!t1.contains("NaN"), "{t1}");
         assert!(stability(&dir, "nothing").is_err());
         std::fs::write(dir.join("empty/summary.json"), "{").unwrap();
         assert!(stability(&dir, "fig2").is_err());
