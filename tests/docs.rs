@@ -12,26 +12,31 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// Push every file below `dir` whose name ends in `.ext` onto `out`,
+/// descending into folders when `deep`.
+fn walk(dir: &Path, ext: &str, deep: bool, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            if deep {
+                walk(&p, ext, deep, out);
+            }
+        } else if p.extension().is_some_and(|x| x == ext) {
+            out.push(p);
+        }
+    }
+}
+
 /// The files whose citations are checked: every `.rs` file under src/,
 /// reproduce/ and tests/, and the top-level documents.
 fn cited_files() -> Vec<PathBuf> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        let Ok(entries) = fs::read_dir(dir) else {
-            return;
-        };
-        for e in entries.flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                walk(&p, out);
-            } else if p.extension().is_some_and(|x| x == "rs") {
-                out.push(p);
-            }
-        }
-    }
     let r = root();
     let mut files = Vec::new();
     for d in ["src", "reproduce", "tests"] {
-        walk(&r.join(d), &mut files);
+        walk(&r.join(d), "rs", true, &mut files);
     }
     for f in ["README.md", "EXPERIMENTS.md", "READINGS.md"] {
         if r.join(f).exists() {
@@ -199,24 +204,9 @@ fn every_document_the_readme_names_is_in_the_repository() {
 /// The cited files and every other Markdown document: the top-level ones
 /// (MODEL.md, HOPPER_READINGS.md, ...) and those under docs/.
 fn every_document() -> Vec<PathBuf> {
-    fn walk_md(dir: &Path, deep: bool, out: &mut Vec<PathBuf>) {
-        let Ok(entries) = fs::read_dir(dir) else {
-            return;
-        };
-        for e in entries.flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                if deep {
-                    walk_md(&p, deep, out);
-                }
-            } else if p.extension().is_some_and(|x| x == "md") {
-                out.push(p);
-            }
-        }
-    }
     let mut files = cited_files();
-    walk_md(&root(), false, &mut files);
-    walk_md(&root().join("docs"), true, &mut files);
+    walk(&root(), "md", false, &mut files);
+    walk(&root().join("docs"), "md", true, &mut files);
     files.sort();
     files.dedup();
     files
