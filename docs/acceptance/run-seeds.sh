@@ -5,7 +5,7 @@
 # docs/acceptance/FIGURE/seed-N/FIGURE/, its timing in times.log and the
 # refreshed verdict table in stability.md.
 #
-#   docs/acceptance/run-seeds.sh FIGURE FIRST LAST [--threads N] [--work DIR] [--commit] [--refile]
+#   docs/acceptance/run-seeds.sh FIGURE FIRST LAST [--threads N] [--work DIR] [--commit] [--refile] [--as NAME -- ARGS...]
 #
 # - A seed already filed is skipped; an interrupted seed resumes from the runs
 #   saved in DIR/seed-N (default DIR: target/acceptance/FIGURE).
@@ -17,26 +17,39 @@
 #   `target/release/acceptance stability` (the last lines of this script).
 # - --commit commits the three filed items after every seed, so that a
 #   machine that goes away loses at most the seed under way.
+# - --as NAME -- ARGS...: a cut of the figure. ARGS are passed to the binary
+#   after the tier, seed, threads and output (e.g. `--sizes 220x11
+#   --no-spectra`), and the seeds are filed under docs/acceptance/NAME/
+#   instead (default DIR: target/acceptance/NAME), so a cut never mixes with
+#   the whole figure's seed sets. A cut computes fewer checks at the same
+#   set-up and seeds; show, for one seed, that its checks equal the whole
+#   figure's.
 # - Needs `cargo build --release --bins` first. Each figure picks its own
 #   engine at this tier (fast for the pipe, the reference for the hopper).
 set -euo pipefail
 usage() {
-    echo "usage: $0 FIGURE FIRST LAST [--threads N] [--work DIR] [--commit] [--refile]" >&2
+    echo "usage: $0 FIGURE FIRST LAST [--threads N] [--work DIR] [--commit] [--refile] [--as NAME -- ARGS...]" >&2
     exit 2
 }
 [ $# -ge 3 ] || usage
 fig=$1 first=$2 last=$3
 shift 3
-threads=2 work="" commit=0 refile=0
+threads=2 work="" commit=0 refile=0 name="" extra=()
 while [ $# -gt 0 ]; do
     case $1 in
         --threads) [ $# -ge 2 ] || usage; threads=$2; shift 2 ;;
         --work) [ $# -ge 2 ] || usage; work=$2; shift 2 ;;
         --commit) commit=1; shift ;;
         --refile) refile=1; shift ;;
+        --as) [ $# -ge 2 ] || usage; name=$2; shift 2 ;;
+        --) shift; extra=("$@"); break ;;
         *) usage ;;
     esac
 done
+# a cut has a name of its own and something to cut; the one needs the other
+[ -z "$name" ] && [ ${#extra[@]} -gt 0 ] && { echo "ARGS after -- need --as NAME (a cut is filed under its own name)" >&2; exit 2; }
+[ -n "$name" ] && [ ${#extra[@]} -eq 0 ] && { echo "--as $name needs ARGS after -- (the options that cut the figure)" >&2; exit 2; }
+[[ -z "$name" || $name =~ ^[a-z0-9-]+$ ]] || { echo "--as NAME must be lower-case letters, digits and '-', got '$name'" >&2; exit 2; }
 [[ $first =~ ^[0-9]+$ && $last =~ ^[0-9]+$ && $first -le $last ]] || {
     echo "FIRST and LAST must be whole numbers with FIRST <= LAST, got '$first' and '$last'" >&2
     exit 2
@@ -45,8 +58,9 @@ cd "$(dirname "$0")/../.."
 bin=target/release/$fig
 [ -x "$bin" ] || { echo "no $bin: run 'cargo build --release --bins' first (FIGURE is a figure binary, e.g. waves-fig9)" >&2; exit 2; }
 [ -x target/release/acceptance ] || { echo "no target/release/acceptance: run 'cargo build --release --bins' first" >&2; exit 2; }
-work=${work:-target/acceptance/$fig}
-docs=docs/acceptance/$fig
+label=${name:-$fig}
+work=${work:-target/acceptance/$label}
+docs=docs/acceptance/$label
 mkdir -p "$docs" "$work"
 TIMEFORMAT='%R %U %S'
 for s in $(seq "$first" "$last"); do
@@ -56,8 +70,8 @@ for s in $(seq "$first" "$last"); do
         [ $refile = 1 ] || { echo "seed $s: filed already, skipped"; continue; }
         again=" refiled"
     fi
-    echo "seed $s: $bin --tier acceptance --seed $s --threads $threads --out $work/seed-$s"
-    t=$({ time "$bin" --tier acceptance --seed "$s" --threads "$threads" --out "$work/seed-$s" \
+    echo "seed $s: $bin --tier acceptance --seed $s --threads $threads --out $work/seed-$s ${extra[*]}"
+    t=$({ time "$bin" --tier acceptance --seed "$s" --threads "$threads" --out "$work/seed-$s" "${extra[@]}" \
         > "$work/seed-$s.log" 2>&1; } 2>&1) || { echo "seed $s failed: see $work/seed-$s.log" >&2; exit 1; }
     read -r wall user sys <<< "$t"
     mkdir -p "$(dirname "$filed")"
@@ -67,7 +81,7 @@ for s in $(seq "$first" "$last"); do
     echo "seed $s: filed (wall $wall s, cpu $user+$sys s)"
     if [ $commit = 1 ]; then
         git add "$filed" "$docs/times.log" "$docs/stability.md"
-        git commit -q -m "$fig acceptance seed $s$again" ||
+        git commit -q -m "$label acceptance seed $s$again" ||
             echo "seed $s: git commit failed; the seed is filed, commit it by hand" >&2
     fi
 done
