@@ -56,10 +56,10 @@ struct Args {
     /// already in --out (e.g. a published copy's folders).
     #[arg(long)]
     no_run: bool,
-    /// Committed seed sets, DIR/<binary>/<seed folder>/ (e.g.
-    /// docs/acceptance): the published checks are also graded over every seed
-    /// set of a figure that has at least 20, where the figure's run here
-    /// equals its committed twin (same seeds) in every check and metric.
+    /// Committed seed sets, DIR/<binary>/<seed folder>/ or a cut's DIR/<name>/
+    /// with cut.txt (e.g. docs/acceptance): the published checks are graded
+    /// over every seed set of a figure (or cut) that has at least 20, where
+    /// its run here equals its committed twin (same seeds) result for result.
     #[arg(long, value_name = "DIR")]
     seed_sets: Option<PathBuf>,
 }

@@ -84,7 +84,7 @@ pub struct Options {
     /// A folder of committed seed sets, `<dir>/<binary>/<seed folder>/`
     /// (`--seed-sets`, e.g. `docs/acceptance`): the published checks are
     /// also graded over every seed set of a figure that has at least
-    /// [`MIN_SEED_SETS`] ([`SeedSets`]).
+    /// [`MIN_SEED_SETS`] ([`SeedSets`]), or of a cut of it ([`cuts_of`]).
     pub seed_sets: Option<PathBuf>,
 }
 
@@ -802,88 +802,124 @@ fn summary_only(out: &Path, binary: &str) -> FigureRun {
 /// sets, result for result
 /// ([`crate::drivers::acceptance_study::committed_twin`]): so the committed
 /// seed sets are graded only where the code at hand is shown to compute
-/// what they hold. Returns the figures so graded, each with the seed folder
-/// its run matched, and one sentence per figure whose seed sets were not
-/// graded, saying why (also for an unreadable folder). A figure without
-/// such a folder keeps its rows as they are.
+/// what they hold. Then the same for each cut of the figure ([`cuts_of`]:
+/// fewer checks at the same set-up and seeds, filed by
+/// `docs/acceptance/run-seeds.sh --as`), for the checks the whole figure's
+/// seed sets left ungraded; a cut's twin is compared on the results it has.
+/// Returns the figures so graded, each with the seed folder its run matched,
+/// and one sentence per figure or cut whose seed sets were not graded,
+/// saying why (also for an unreadable folder). A figure without such a
+/// folder keeps its rows as they are.
 pub fn attach_seed_sets(report: &mut Report, out: &Path, dir: &Path) -> (Vec<String>, Vec<String>) {
-    use crate::drivers::acceptance_study::{all_seeds, committed_twin, Twin};
     let (mut matched, mut said) = (vec![], vec![]);
-    for f in &report.figures {
-        let b = &f.run.binary;
-        let from = dir.join(b);
-        let (n, all) = match all_seeds(&from, b) {
-            Ok(x) => x,
-            // a figure without seed sets says nothing; an unreadable one says why
-            Err(e) => {
-                if from.is_dir() {
-                    said.push(format!("{b}: not graded over its seed sets: {e}"));
-                }
-                continue;
-            }
-        };
-        if n < MIN_SEED_SETS {
-            continue;
-        }
-        let summary = std::fs::read_to_string(out.join(b).join("summary.json"))
-            .ok()
-            .and_then(|t| serde_json::from_str::<Value>(&t).ok());
-        let twin = summary.map(|s| committed_twin(&from, b, &s));
-        match twin {
-            Some(Ok(Twin::Identical { committed })) => {
-                // the seed folder, e.g. `seed-1`
-                let folder = committed
-                    .strip_prefix(&from)
-                    .ok()
-                    .and_then(|p| p.components().next())
-                    .map_or(committed.display().to_string(), |c| {
-                        c.as_os_str().to_string_lossy().into_owned()
-                    });
-                matched.push(format!("{b} ({folder} of {n})"))
-            }
-            Some(Ok(Twin::Differs { committed, what })) => {
-                said.push(format!(
-                    "{b}: NOT graded over its {n} committed seed sets: this run has the runs of {} but other results ({what}), so the code that wrote them computes otherwise; refile them (docs/acceptance/run-seeds.sh --refile).",
-                    committed.display()
-                ));
-                continue;
-            }
-            Some(Ok(Twin::NotAmong)) => {
-                said.push(format!(
-                    "{b}: not graded over its {n} committed seed sets in {}: none has this run's seeds (base seed or tier), so none shows the code at hand computes what they hold.",
-                    from.display()
-                ));
-                continue;
-            }
-            Some(Err(e)) => {
-                said.push(format!("{b}: not graded over its seed sets: {e}"));
-                continue;
-            }
-            None => {
-                said.push(format!(
-                    "{b}: not graded over its seed sets: no readable {}",
-                    out.join(b).join("summary.json").display()
-                ));
-                continue;
-            }
-        }
-        for a in all {
-            if let Some(row) = report
-                .rows
-                .iter_mut()
-                .find(|r| &r.binary == b && r.name == a.check)
-            {
-                row.seed_sets = Some(SeedSets {
-                    seeds: a.seeds,
-                    measured: a.estimate.map(|e| e.mean).filter(|x| x.is_finite()),
-                    error: a.estimate.map(|e| e.se).filter(|x| x.is_finite()),
-                    verdict: a.verdict.status().to_string(),
-                    from: from.display().to_string(),
-                });
+    let binaries: Vec<String> = report
+        .figures
+        .iter()
+        .map(|f| f.run.binary.clone())
+        .collect();
+    for b in &binaries {
+        let whole = std::iter::once((dir.join(b), None));
+        let cuts = cuts_of(dir, b).into_iter().map(|(f, args)| (f, Some(args)));
+        for (from, cut) in whole.chain(cuts) {
+            match seed_sets_of(report, out, b, &from) {
+                Ok(Some((folder, n))) => matched.push(match &cut {
+                    None => format!("{b} ({folder} of {n})"),
+                    Some(args) => format!(
+                        "{b} (cut {}, `{args}`: {folder} of {n})",
+                        from.file_name()
+                            .map_or(String::new(), |f| f.to_string_lossy().into_owned())
+                    ),
+                }),
+                Ok(None) => {}
+                Err(why) => said.push(why),
             }
         }
     }
     (matched, said)
+}
+
+/// The cuts of figure `binary` in `dir`: each folder holding a `cut.txt`
+/// whose first word is `binary` (the rest: the options that cut it), sorted
+/// by name. `docs/acceptance/run-seeds.sh --as NAME -- ARGS` writes it.
+pub fn cuts_of(dir: &Path, binary: &str) -> Vec<(PathBuf, String)> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return vec![];
+    };
+    let mut cuts: Vec<(PathBuf, String)> = entries
+        .filter_map(|e| {
+            let folder = e.ok()?.path();
+            let text = std::fs::read_to_string(folder.join("cut.txt")).ok()?;
+            let (fig, args) = text.trim().split_once(' ')?;
+            (fig == binary).then(|| (folder, args.trim().to_string()))
+        })
+        .collect();
+    cuts.sort();
+    cuts
+}
+
+/// Grade the rows of figure `b` that have no seed sets yet over the seed
+/// sets in `from` ([`attach_seed_sets`]): `Ok(Some((seed folder matched,
+/// seed sets)))` when graded, `Ok(None)` when `from` has none or fewer than
+/// [`MIN_SEED_SETS`], `Err(why)` when they were not graded.
+fn seed_sets_of(
+    report: &mut Report,
+    out: &Path,
+    b: &str,
+    from: &Path,
+) -> std::result::Result<Option<(String, usize)>, String> {
+    use crate::drivers::acceptance_study::{all_seeds, committed_twin, Twin};
+    let (n, all) = match all_seeds(from, b) {
+        Ok(x) => x,
+        // a figure without seed sets says nothing; an unreadable one says why
+        Err(e) if from.is_dir() => return Err(format!("{b}: not graded over its seed sets: {e}")),
+        Err(_) => return Ok(None),
+    };
+    if n < MIN_SEED_SETS {
+        return Ok(None);
+    }
+    let summary = std::fs::read_to_string(out.join(b).join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok());
+    let committed = match summary.map(|s| committed_twin(from, b, &s)) {
+        Some(Ok(Twin::Identical { committed })) => committed,
+        Some(Ok(Twin::Differs { committed, what })) => return Err(format!(
+            "{b}: NOT graded over its {n} committed seed sets: this run has the runs of {} but other results ({what}), so the code that wrote them computes otherwise; refile them (docs/acceptance/run-seeds.sh --refile).",
+            committed.display()
+        )),
+        Some(Ok(Twin::NotAmong)) => return Err(format!(
+            "{b}: not graded over its {n} committed seed sets in {}: none has this run's seeds (base seed or tier), so none shows the code at hand computes what they hold.",
+            from.display()
+        )),
+        Some(Err(e)) => return Err(format!("{b}: not graded over its seed sets: {e}")),
+        None => return Err(format!(
+            "{b}: not graded over its seed sets: no readable {}",
+            out.join(b).join("summary.json").display()
+        )),
+    };
+    // the seed folder, e.g. `seed-1`
+    let folder = committed
+        .strip_prefix(from)
+        .ok()
+        .and_then(|p| p.components().next())
+        .map_or(committed.display().to_string(), |c| {
+            c.as_os_str().to_string_lossy().into_owned()
+        });
+    for a in all {
+        let row = report
+            .rows
+            .iter_mut()
+            .find(|r| r.binary == b && r.name == a.check && r.seed_sets.is_none());
+        if let Some(row) = row {
+            row.seed_sets = Some(SeedSets {
+                seeds: a.seeds,
+                measured: a.estimate.map(|e| e.mean).filter(|x| x.is_finite()),
+                error: a.estimate.map(|e| e.se).filter(|x| x.is_finite()),
+                verdict: a.verdict.status().to_string(),
+                from: from.display().to_string(),
+            });
+        }
+    }
+    Ok(Some((folder, n)))
 }
 
 /// One line per published check graded over committed seed sets, for the

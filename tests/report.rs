@@ -193,6 +193,22 @@ fn an_unknown_engine_is_a_typed_error_up_front() {
     assert!(!out.join("hopper-fig2").exists(), "nothing ran");
 }
 
+/// A fig2 summary of the acceptance tier with base seed `seed`: alpha as
+/// given and, when `with_v`, v_peak.
+fn fig2_summary(alpha: f64, se: f64, verdict: &str, seed: u32, with_v: bool) -> String {
+    let mut checks = vec![serde_json::json!({"name": "alpha", "kind": "published",
+        "verdict": verdict, "measured": alpha, "error": se, "runs": 128, "published": 1.33,
+        "tolerance": 0.059, "claim": {"test": "within"}})];
+    if with_v {
+        checks.push(serde_json::json!({"name": "v_peak", "kind": "published",
+            "verdict": "reproduced", "measured": 0.395, "error": 0.0007, "runs": 128,
+            "published": 0.40, "tolerance": 0.007, "claim": {"test": "within"}}));
+    }
+    serde_json::json!({"figure": "fig2", "paper": "PH94 Fig. 2", "tier": "acceptance",
+        "rules": "r", "wall_seconds": 12.5, "seeds": [seed, seed + 100], "checks": checks})
+    .to_string()
+}
+
 /// `--no-run` re-renders from the summaries in `--out` without running a
 /// figure, and `--seed-sets` grades the published checks over every
 /// committed seed set of a figure that has at least 20 (issue 29): here a
@@ -205,15 +221,7 @@ fn no_run_re_renders_and_seed_sets_grade_over_all_seeds() {
     let out = fresh("no-run");
     let sets = fresh("seed-sets");
     let summary = |alpha: f64, se: f64, verdict: &str, seed: u32| {
-        serde_json::json!({"figure": "fig2", "paper": "PH94 Fig. 2", "tier": "acceptance",
-            "rules": "r", "wall_seconds": 12.5, "seeds": [seed, seed + 100], "checks": [
-            {"name": "alpha", "kind": "published", "verdict": verdict, "measured": alpha,
-             "error": se, "runs": 128, "published": 1.33, "tolerance": 0.059,
-             "claim": {"test": "within"}},
-            {"name": "v_peak", "kind": "published", "verdict": "reproduced", "measured": 0.395,
-             "error": 0.0007, "runs": 128, "published": 0.40, "tolerance": 0.007,
-             "claim": {"test": "within"}}]})
-        .to_string()
+        fig2_summary(alpha, se, verdict, seed, true)
     };
     let alpha = |s: u32| 1.2634 + 0.0116 * ((s as f64) - 10.5) / 5.9;
     // this run is seed set 1
@@ -329,4 +337,73 @@ fn no_run_re_renders_and_seed_sets_grade_over_all_seeds() {
     std::fs::remove_file(out.join("fig2/summary.json")).unwrap();
     assert!(!no_run(&[]).status.success());
     assert!(read(out.join("report/REPORT.md")).contains("--no-run and no"));
+}
+
+/// A cut of a figure (`run-seeds.sh --as NAME -- ARGS`: fewer checks at the
+/// same set-up and seeds, `NAME/cut.txt` naming the figure) grades its
+/// checks over its seed sets where the whole figure has fewer than 20: here
+/// the whole fig2 has 1 seed set and a cut with alpha alone has 20, so alpha
+/// is graded over the cut and v_peak is not. A cut whose seed set 1 differs
+/// from this run is not graded, and says why.
+#[test]
+fn a_cut_grades_its_checks_over_its_seed_sets() {
+    let out = fresh("cut-run");
+    let sets = fresh("cut-sets");
+    std::fs::create_dir_all(out.join("fig2")).unwrap();
+    let alpha = |s: u32| 1.2634 + 0.0116 * ((s as f64) - 10.5) / 5.9;
+    let mine = fig2_summary(alpha(1), 0.011, "undecided", 1, true);
+    std::fs::write(out.join("fig2/summary.json"), mine).unwrap();
+    let file = |folder: &str, s: u32, with_v: bool| {
+        let d = sets.join(format!("{folder}/seed-{s}/fig2"));
+        std::fs::create_dir_all(&d).unwrap();
+        let text = fig2_summary(alpha(s), 0.011, "undecided", s, with_v);
+        std::fs::write(d.join("summary.json"), text).unwrap();
+    };
+    file("fig2", 1, true);
+    (1..=20).for_each(|s| file("fig2-alpha", s, false));
+    let render = || {
+        let o = Command::new(EXE)
+            .args([
+                "--tier",
+                "acceptance",
+                "--only",
+                "fig2",
+                "--no-run",
+                "--out",
+            ])
+            .arg(&out)
+            .arg("--seed-sets")
+            .arg(&sets)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        read(out.join("report/REPORT.md"))
+    };
+    // without cut.txt the folder is no cut of fig2
+    assert!(!render().contains("Over every committed seed set"));
+    std::fs::write(sets.join("fig2-alpha/cut.txt"), "fig2 --alpha-only\n").unwrap();
+    let md = render();
+    assert!(md.contains("## Over every committed seed set (1)"), "{md}");
+    assert!(
+        md.contains("| PH94 Fig. 2 (`fig2`) | `alpha` | undecided | 20 |"),
+        "{md}"
+    );
+    assert!(
+        md.contains("fig2 (cut fig2-alpha, `--alpha-only`: seed-1 of 20)"),
+        "{md}"
+    );
+    // a cut of another figure is not this one's
+    std::fs::write(sets.join("fig2-alpha/cut.txt"), "waves-fig6 --alpha-only").unwrap();
+    assert!(!render().contains("Over every committed seed set"));
+    // a cut whose seed set 1 has another alpha: not graded, and says why
+    std::fs::write(sets.join("fig2-alpha/cut.txt"), "fig2 --alpha-only").unwrap();
+    let d = sets.join("fig2-alpha/seed-1/fig2/summary.json");
+    let other = fig2_summary(alpha(1) + 1e-12, 0.011, "undecided", 1, false);
+    std::fs::write(d, other).unwrap();
+    let md = render();
+    assert!(!md.contains("Over every committed seed set"), "{md}");
+    assert!(
+        md.contains("fig2: NOT graded over its 20 committed seed sets"),
+        "{md}"
+    );
 }

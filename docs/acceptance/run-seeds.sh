@@ -21,7 +21,9 @@
 #   after the tier, seed, threads and output (e.g. `--sizes 220x11
 #   --no-spectra`), and the seeds are filed under docs/acceptance/NAME/
 #   instead (default DIR: target/acceptance/NAME), so a cut never mixes with
-#   the whole figure's seed sets. A cut computes fewer checks at the same
+#   the whole figure's seed sets. NAME/cut.txt records "FIGURE ARGS"; `report
+#   --seed-sets` grades the cut's checks over its seed sets where the whole
+#   figure has too few. A cut computes fewer checks at the same
 #   set-up and seeds; show, for one seed, that its checks equal the whole
 #   figure's.
 # - Needs `cargo build --release --bins` first. Each figure picks its own
@@ -62,6 +64,16 @@ label=${name:-$fig}
 work=${work:-target/acceptance/$label}
 docs=docs/acceptance/$label
 mkdir -p "$docs" "$work"
+if [ -n "$name" ]; then
+    # the cut's figure and options, which `report --seed-sets` reads; one
+    # folder holds one cut
+    cut="$fig ${extra[*]}"
+    if [ -f "$docs/cut.txt" ] && [ "$(cat "$docs/cut.txt")" != "$cut" ]; then
+        echo "$docs/cut.txt is '$(cat "$docs/cut.txt")', not '$cut': a folder holds one cut; choose another --as" >&2
+        exit 2
+    fi
+    echo "$cut" > "$docs/cut.txt"
+fi
 TIMEFORMAT='%R %U %S'
 for s in $(seq "$first" "$last"); do
     filed=$docs/seed-$s/$fig/summary.json
@@ -81,6 +93,7 @@ for s in $(seq "$first" "$last"); do
     echo "seed $s: filed (wall $wall s, cpu $user+$sys s)"
     if [ $commit = 1 ]; then
         git add "$filed" "$docs/times.log" "$docs/stability.md"
+        [ -z "$name" ] || git add "$docs/cut.txt"
         git commit -q -m "$label acceptance seed $s$again" ||
             echo "seed $s: git commit failed; the seed is filed, commit it by hand" >&2
     fi
