@@ -209,6 +209,20 @@ fn fig2_summary(alpha: f64, se: f64, verdict: &str, seed: u32, with_v: bool) -> 
     .to_string()
 }
 
+/// `report --tier acceptance --only fig2 --no-run --out OUT EXTRA...`.
+fn fig2_no_run(out: &Path, extra: &[&str]) -> Output {
+    let args = [
+        "--tier",
+        "acceptance",
+        "--only",
+        "fig2",
+        "--no-run",
+        "--out",
+    ];
+    let o = Command::new(EXE).args(args).arg(out).args(extra).output();
+    o.expect("report runs")
+}
+
 /// `--no-run` re-renders from the summaries in `--out` without running a
 /// figure, and `--seed-sets` grades the published checks over every
 /// committed seed set of a figure that has at least 20 (issue 29): here a
@@ -245,21 +259,7 @@ fn no_run_re_renders_and_seed_sets_grade_over_all_seeds() {
         .unwrap();
     };
     (1..=19).for_each(seed);
-    let no_run = |extra: &[&str]| {
-        Command::new(EXE)
-            .args([
-                "--tier",
-                "acceptance",
-                "--only",
-                "fig2",
-                "--no-run",
-                "--out",
-            ])
-            .arg(&out)
-            .args(extra)
-            .output()
-            .unwrap()
-    };
+    let no_run = |extra: &[&str]| fig2_no_run(&out, extra);
     let run = |extra: &[&str]| {
         let o = no_run(extra);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -362,20 +362,7 @@ fn a_cut_grades_its_checks_over_its_seed_sets() {
     file("fig2", 1, true);
     (1..=20).for_each(|s| file("fig2-alpha", s, false));
     let render = || {
-        let o = Command::new(EXE)
-            .args([
-                "--tier",
-                "acceptance",
-                "--only",
-                "fig2",
-                "--no-run",
-                "--out",
-            ])
-            .arg(&out)
-            .arg("--seed-sets")
-            .arg(&sets)
-            .output()
-            .unwrap();
+        let o = fig2_no_run(&out, &["--seed-sets", &sets.display().to_string()]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         read(out.join("report/REPORT.md"))
     };
@@ -383,15 +370,13 @@ fn a_cut_grades_its_checks_over_its_seed_sets() {
     assert!(!render().contains("Over every committed seed set"));
     std::fs::write(sets.join("fig2-alpha/cut.txt"), "fig2 --alpha-only\n").unwrap();
     let md = render();
-    assert!(md.contains("## Over every committed seed set (1)"), "{md}");
-    assert!(
-        md.contains("| PH94 Fig. 2 (`fig2`) | `alpha` | undecided | 20 |"),
-        "{md}"
-    );
-    assert!(
-        md.contains("fig2 (cut fig2-alpha, `--alpha-only`: seed-1 of 20)"),
-        "{md}"
-    );
+    for want in [
+        "## Over every committed seed set (1)",
+        "| PH94 Fig. 2 (`fig2`) | `alpha` | undecided | 20 |",
+        "fig2 (cut fig2-alpha, `--alpha-only`: seed-1 of 20)",
+    ] {
+        assert!(md.contains(want), "{want} in {md}");
+    }
     // a cut of another figure is not this one's
     std::fs::write(sets.join("fig2-alpha/cut.txt"), "waves-fig6 --alpha-only").unwrap();
     assert!(!render().contains("Over every committed seed set"));
