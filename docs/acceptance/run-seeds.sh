@@ -60,6 +60,15 @@ cd "$(dirname "$0")/../.."
 bin=target/release/$fig
 [ -x "$bin" ] || { echo "no $bin: run 'cargo build --release --bins' first (FIGURE is a figure binary, e.g. waves-fig9)" >&2; exit 2; }
 [ -x target/release/acceptance ] || { echo "no target/release/acceptance: run 'cargo build --release --bins' first" >&2; exit 2; }
+if [ -n "$name" ]; then
+    # a cut never writes into a whole figure's folder (or any other that is
+    # not a cut's): the report would read it as both
+    [ "$name" != "$fig" ] || { echo "--as $name: a cut needs a name other than its figure's" >&2; exit 2; }
+    [ ! -d "docs/acceptance/$name" ] || [ -f "docs/acceptance/$name/cut.txt" ] || {
+        echo "--as $name: docs/acceptance/$name exists and holds no cut.txt, so it is not a cut's folder; choose another name" >&2
+        exit 2
+    }
+fi
 label=${name:-$fig}
 work=${work:-target/acceptance/$label}
 docs=docs/acceptance/$label
