@@ -15,7 +15,7 @@
 # - Several machines share the work by taking disjoint seed ranges; copy their
 #   docs/acceptance/FIGURE/seed-N folders together and rerun
 #   `target/release/acceptance stability` (the last lines of this script).
-# - --commit commits the three filed items after every seed, so that a
+# - --commit commits the filed items (and a cut's cut.txt) after every seed, so that a
 #   machine that goes away loses at most the seed under way.
 # - --as NAME -- ARGS...: a cut of the figure. ARGS are passed to the binary
 #   after the tier, seed, threads and output (e.g. `--sizes 220x11
