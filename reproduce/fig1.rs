@@ -15,7 +15,6 @@ use granular_automata::drivers::bands::{
     draw_fig1, fig1_checks, fig1_metrics, write_panel_stats, Fig1Setup,
 };
 use granular_automata::pipe::record::fig1_pipe;
-use granular_automata::run::Figure;
 
 #[derive(Parser)]
 #[command(about = "PH94 Fig. 1: density waves in a pipe (space-time plots, panels a-d)")]
@@ -28,11 +27,7 @@ struct Args {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
-    let c = &args.common;
-    let rules = args.rules.parse()?;
-    let engine = args.rules.engine(args.common.tier)?;
-    let mut fig = Figure::start("fig1", "PH94 Fig. 1", c.tier, rules.to_string());
-    fig.engine = engine.label();
+    let (fig, rules, engine, c) = args.rules.start(&args.common, "fig1", "PH94 Fig. 1")?;
     // Bands need the full length and duration (shorter pipes or runs do not form
     // them reliably, EXPERIMENTS.md), so the tiers differ in the number of runs.
     let setup = Fig1Setup {

@@ -65,10 +65,7 @@ struct Args {
 }
 
 fn main() {
-    if let Err(e) = report() {
-        eprintln!("report: {e}");
-        std::process::exit(1);
-    }
+    granular_automata::cli::exit_on_error("report", report);
 }
 
 fn report() -> granular_automata::Result<()> {

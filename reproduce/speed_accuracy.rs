@@ -46,10 +46,7 @@ struct Args {
 }
 
 fn main() {
-    if let Err(e) = run() {
-        eprintln!("speed-accuracy: {e}");
-        std::process::exit(1);
-    }
+    granular_automata::cli::exit_on_error("speed-accuracy", run);
 }
 
 fn run() -> granular_automata::Result<()> {

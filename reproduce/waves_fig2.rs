@@ -51,8 +51,7 @@ struct RunResult {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
-    let (fig, rules, c) = args.wave.start("waves-fig2", "PH95 Fig. 2")?;
-    let engine = args.wave.rules.engine(args.wave.common.tier)?;
+    let (fig, rules, engine, c) = args.wave.start("waves-fig2", "PH95 Fig. 2")?;
     let runs = c.runs_or(3, 8, 32);
     let params = args.wave.pipe(2200, 10)?;
     let key = json!({"analysis": 1, "params": params, "rules": rules.to_string(), "engine": engine, "steps": STEPS, "every": EVERY});

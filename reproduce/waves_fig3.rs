@@ -38,8 +38,7 @@ const EARLY: u64 = RELAXATION_EARLY;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
-    let (fig, rules, c) = args.wave.start("waves-fig3", "PH95 Fig. 3")?;
-    let engine = args.wave.rules.engine(args.wave.common.tier)?;
+    let (fig, rules, engine, c) = args.wave.start("waves-fig3", "PH95 Fig. 3")?;
     let runs = c.runs_or(64, 64, 64);
     let (tier_steps, every) = relaxation_schedule(c.tier);
     let steps = args.steps.unwrap_or(tier_steps);

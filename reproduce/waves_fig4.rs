@@ -42,8 +42,7 @@ const BIN: usize = FIG4_BIN;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
-    let (fig, rules, c) = args.wave.start("waves-fig4", "PH95 Fig. 4")?;
-    let engine = args.wave.rules.engine(args.wave.common.tier)?;
+    let (fig, rules, engine, c) = args.wave.start("waves-fig4", "PH95 Fig. 4")?;
     let runs = c.runs_or(4, 16, 64);
     granular_automata::cli::reject_duplicates("--lengths", &args.lengths)?;
     for &length in &args.lengths {

@@ -39,8 +39,7 @@ const BIN: usize = FIG5_BIN;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
-    let (fig, rules, c) = args.wave.start("waves-fig5", "PH95 Fig. 5")?;
-    let engine = args.wave.rules.engine(args.wave.common.tier)?;
+    let (fig, rules, engine, c) = args.wave.start("waves-fig5", "PH95 Fig. 5")?;
     let accepted = granular_automata::drivers::acceptance::margin("waves-fig5", "wave_speed");
     let runs = c.runs_for(8, 16, 64, accepted.map_or(64, |m| m.runs));
     let params = args.wave.pipe(args.length, BIN)?;

@@ -178,6 +178,16 @@ impl PipeArgs {
     }
 }
 
+/// Run a command's `body`; on an error print `binary: error` to stderr and
+/// exit with status 1 (the commands that are not figures: `report`,
+/// `speed-accuracy`).
+pub fn exit_on_error(binary: &str, body: impl FnOnce() -> crate::Result<()>) {
+    if let Err(e) = body() {
+        eprintln!("{binary}: {e}");
+        std::process::exit(1);
+    }
+}
+
 impl PipeRules {
     /// Parse the rules; `help` prints the known names and exits.
     pub fn parse(&self) -> crate::Result<Rules> {
@@ -206,17 +216,18 @@ impl PipeRules {
 
     /// Start figure `binary` reproducing `paper` with these rules and the
     /// options `common`: the figure (its clock running), the parsed rules,
-    /// and `common`.
+    /// the engine ([`PipeRules::engine`]) and `common`.
     pub fn start<'c>(
         &self,
         common: &'c Common,
         binary: &'static str,
         paper: &'static str,
-    ) -> crate::Result<(Figure, Rules, &'c Common)> {
+    ) -> crate::Result<(Figure, Rules, crate::pipe::Engine, &'c Common)> {
         let rules = self.parse()?;
+        let engine = self.engine(common.tier)?;
         let mut fig = Figure::start(binary, paper, common.tier, rules.to_string());
-        fig.engine = self.engine(common.tier)?.label();
-        Ok((fig, rules, common))
+        fig.engine = engine.label();
+        Ok((fig, rules, engine, common))
     }
 }
 
@@ -237,12 +248,12 @@ pub struct WaveOptions {
 
 impl WaveOptions {
     /// Start figure `binary` reproducing `paper`: the figure (its clock
-    /// running), the parsed `--rules`, and the common options.
+    /// running), the parsed `--rules`, the engine and the common options.
     pub fn start(
         &self,
         binary: &'static str,
         paper: &'static str,
-    ) -> crate::Result<(Figure, Rules, &Common)> {
+    ) -> crate::Result<(Figure, Rules, crate::pipe::Engine, &Common)> {
         self.rules.start(&self.common, binary, paper)
     }
 

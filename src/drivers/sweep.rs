@@ -670,8 +670,7 @@ impl<'a> SweepFigure<'a> {
         args: &'a crate::cli::PipeArgs,
         points: Vec<SweepPoint>,
     ) -> Result<Option<Self>> {
-        let (figure, rules, c) = args.rules.start(&args.common, binary, paper)?;
-        let engine = args.rules.engine(args.common.tier)?;
+        let (figure, rules, engine, c) = args.rules.start(&args.common, binary, paper)?;
         let runs = c.runs_for(2, 8, 32, super::acceptance::sweep_runs(binary));
         let setup_of = |p| super::spectra::tier_setup(c.tier, p, rules, engine);
         let Some(results) = run_sweep(c, binary, &points, runs, setup_of)? else {

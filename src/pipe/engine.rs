@@ -134,6 +134,33 @@ macro_rules! forward_to_inherent {
 }
 pub(crate) use forward_to_inherent;
 
+/// The getters both engines keep inherent, over their fields of the same
+/// names: `params`, `rules`, `time` and `flux` (placed inside `impl $engine`).
+macro_rules! run_getters {
+    () => {
+        /// The parameters of this run.
+        pub fn params(&self) -> &Params {
+            &self.params
+        }
+
+        /// The rule reading of this run.
+        pub fn rules(&self) -> Rules {
+            self.rules
+        }
+
+        /// Steps done so far.
+        pub fn time(&self) -> u64 {
+            self.time
+        }
+
+        /// Injection and outflow counters (open pipe, MODEL.md A7).
+        pub fn flux(&self) -> Flux {
+            self.flux
+        }
+    };
+}
+pub(crate) use run_getters;
+
 impl<D: Draws + Send> PipeEngine for Pipe<D> {
     forward_to_inherent!(Pipe);
 }

@@ -265,25 +265,7 @@ impl<D: Draws> Pipe<D> {
         Ok(())
     }
 
-    /// The parameters of this run.
-    pub fn params(&self) -> &Params {
-        &self.params
-    }
-
-    /// The rule reading of this run.
-    pub fn rules(&self) -> Rules {
-        self.rules
-    }
-
-    /// Steps done so far.
-    pub fn time(&self) -> u64 {
-        self.time
-    }
-
-    /// Injection and outflow counters (open pipe).
-    pub fn flux(&self) -> Flux {
-        self.flux
-    }
+    super::engine::run_getters!();
 
     /// The collision table in use.
     pub fn collision_table(&self) -> &CollisionTable {

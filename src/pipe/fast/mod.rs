@@ -30,7 +30,7 @@ pub mod logic;
 pub mod walk;
 
 use super::collision::{bit, threshold, CollisionTable, Entry};
-use super::engine::{forward_to_inherent, EngineBuilder, PipeEngine};
+use super::engine::{forward_to_inherent, run_getters, EngineBuilder, PipeEngine};
 use super::order::{self, SubSteps};
 use super::relocation;
 use super::{Boundary, Flux, GravityWording, Params, Rules};
@@ -218,25 +218,7 @@ impl<R: Rng + Clone + Send> FastPipe<R> {
         self.grid.clear();
     }
 
-    /// The parameters of this run.
-    pub fn params(&self) -> &Params {
-        &self.params
-    }
-
-    /// The rule reading of this run.
-    pub fn rules(&self) -> Rules {
-        self.rules
-    }
-
-    /// Steps done so far.
-    pub fn time(&self) -> u64 {
-        self.time
-    }
-
-    /// Injection and outflow counters (open pipe, MODEL.md A7).
-    pub fn flux(&self) -> Flux {
-        self.flux
-    }
+    run_getters!();
 
     /// Change the dissipation p mid-run (PH94 Fig. 1c); validated.
     pub fn set_p(&mut self, p: f64) -> Result<()> {
