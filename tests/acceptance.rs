@@ -46,6 +46,23 @@ fn over_seed_sets(s: &serde_json::Value) -> BTreeMap<String, String> {
         .collect()
 }
 
+/// Figure `$bin` at its published set-up (`--tier acceptance` and the
+/// options `$extra`), writing `$files`: its summary, once it is shown to have
+/// run at that tier on `$engine` with `$runs` seeds.
+macro_rules! at_published_set_up {
+    ($bin:literal, $extra:expr, $files:expr, $engine:literal, $runs:literal) => {{
+        let mut args = vec!["--tier", "acceptance"];
+        args.extend_from_slice($extra);
+        let s = run_figure!($bin, &args, "acceptance", $files);
+        let seeds = s["seeds"].as_array().expect("seeds").len();
+        assert_eq!(
+            (s["tier"].as_str(), s["engine"].as_str(), seeds),
+            (Some("acceptance"), Some($engine), $runs)
+        );
+        s
+    }};
+}
+
 /// A recorded value: `measured` of check `name` equals `value` to 1e-9
 /// (runs are pure functions of seed, rules and engine: the same bytes).
 fn assert_value(s: &serde_json::Value, name: &str, value: f64, error: f64) {
@@ -67,15 +84,13 @@ fn assert_value(s: &serde_json::Value, name: &str, value: f64, error: f64) {
 
 #[test]
 fn ph94_fig2_at_the_published_set_up_alpha_undecided_v_reproduced() {
-    let s = run_figure!(
+    let s = at_published_set_up!(
         "fig2",
-        &["--tier", "acceptance"],
-        "acceptance",
+        &[],
         &["fig2.png", "spectrum.csv", "runs.csv"],
+        "fast",
+        128
     );
-    assert_eq!(s["tier"], "acceptance");
-    assert_eq!(s["engine"], "fast");
-    assert_eq!(s["seeds"].as_array().unwrap().len(), 128);
     // alpha = 1.33 +- 0.059: undecided at 19 of 20 base seeds (seed 19: not
     // reproduced by 0.001); all 2560 runs decide it not reproduced, and
     // ~3400 runs per seed set would give a stable verdict
@@ -93,17 +108,13 @@ fn ph94_fig2_at_the_published_set_up_alpha_undecided_v_reproduced() {
 
 #[test]
 fn ph95_fig6_at_the_published_set_up_alpha_undecided() {
-    let s = run_figure!(
+    let s = at_published_set_up!(
         "waves-fig6",
-        &["--tier", "acceptance"],
-        "acceptance",
+        &[],
         &["waves-fig6.png", "spectrum.csv", "runs.csv"],
+        "fast",
+        128
     );
-    assert_eq!(
-        (s["tier"].as_str(), s["engine"].as_str()),
-        (Some("acceptance"), Some("fast"))
-    );
-    assert_eq!(s["seeds"].as_array().unwrap().len(), 128);
     // alpha = 1.33 +- 0.026: undecided at 14 of 20 base seeds (6 not
     // reproduced); all 2560 runs decide it not reproduced (1.2945 +- 0.0014)
     assert_eq!(verdict(&s, "alpha"), "undecided");
@@ -124,13 +135,7 @@ const V_SEED1: (f64, f64) = (0.39544677734375, 0.0006265051476578973);
 
 #[test]
 fn ph95_fig7_at_the_published_set_up_not_white_with_the_line_at_one_half() {
-    let s = run_figure!(
-        "waves-fig7",
-        &["--tier", "acceptance"],
-        "acceptance",
-        &["waves-fig7.png"],
-    );
-    assert_eq!(s["engine"], "fast");
+    let s = at_published_set_up!("waves-fig7", &[], &["waves-fig7.png"], "fast", 8);
     // known discrepancies of the default reading: the spectra rise with
     // frequency (alpha < 0) instead of being white
     assert_eq!(verdict(&s, "alpha_p0"), "not-reproduced");
@@ -151,16 +156,7 @@ const FIG5_SEED1: [(f64, f64); 2] = [
 
 #[test]
 fn ph95_fig5_at_the_published_set_up_speed_not_reproduced_speeds_coincide() {
-    let s = run_figure!(
-        "waves-fig5",
-        &["--tier", "acceptance"],
-        "acceptance",
-        &["fig5.png", "runs.csv"],
-    );
-    assert_eq!(
-        (s["engine"].as_str(), s["seeds"].as_array().unwrap().len()),
-        (Some("fast"), 128)
-    );
+    let s = at_published_set_up!("waves-fig5", &[], &["fig5.png", "runs.csv"], "fast", 128);
     // v = 0.36 +- 0.151 (2 x 0.05 + s_open 0.051): the default reading's
     // overlap speed is about 0.12, a known discrepancy (no bands at L = 512)
     assert_eq!(verdict(&s, "wave_speed"), "not-reproduced");
@@ -188,19 +184,16 @@ const BB90_FIG3_SEED1: [(f64, f64); 2] = [
 
 #[test]
 fn bb90_fig3_at_the_published_set_up_rate_steady_spectrum_flat_not_white_at_lag_one() {
-    let s = run_figure!(
+    let s = at_published_set_up!(
         "hopper-fig3",
-        &["--tier", "acceptance", "--cases", "beta1_bond,beta0"],
-        "acceptance",
+        &["--cases", "beta1_bond,beta0"],
         &[
             "hopper-fig3-spectrum.png",
             "spectra.csv",
             "outflow_run0.csv"
         ],
-    );
-    assert_eq!(
-        (s["engine"].as_str(), s["seeds"].as_array().unwrap().len()),
-        (Some("reference"), 16)
+        "reference",
+        16
     );
     // the outflow rate: no trend, and the same with orientation on as off
     // (within 0.1 and 0.2)
@@ -266,19 +259,16 @@ const BB90_FIG2_VERTICAL_SEED1: (f64, f64) = (0.3992569127293831, 0.002860993007
 
 #[test]
 fn bb90_fig2_at_the_published_set_up_every_claim_but_the_vertical_core() {
-    let s = run_figure!(
+    let s = at_published_set_up!(
         "hopper-fig2",
-        &["--tier", "acceptance", "--cases", "beta0,beta1_bond"],
-        "acceptance",
+        &["--cases", "beta0,beta1_bond"],
         &[
             "hopper-fig2-activity.png",
             "g_of_r.csv",
             "activity_profiles.csv"
         ],
-    );
-    assert_eq!(
-        (s["engine"].as_str(), s["seeds"].as_array().unwrap().len()),
-        (Some("reference"), 8)
+        "reference",
+        8
     );
     // each verdict repeats in all 20 base seeds (EXPERIMENTS.md "10. BB90
     // Fig. 2 and four cheap pipe figures over 20 seeds"); the values equal

@@ -44,6 +44,20 @@ fn complete<T>(o: Outcome<T>) -> Vec<T> {
     }
 }
 
+/// Run the ensemble `e` to completion: its results, and how many runs it
+/// computed (the others were read back from their saved files).
+fn run_counted(e: &Ensemble) -> (Vec<Record>, usize) {
+    let calls = AtomicUsize::new(0);
+    let got = complete(
+        e.run(300, |_, seed, _| {
+            calls.fetch_add(1, Ordering::SeqCst);
+            one_run(seed)
+        })
+        .unwrap(),
+    );
+    (got, calls.load(Ordering::SeqCst))
+}
+
 /// The uninterrupted, unsharded ensemble on one thread, in `ensemble-<tag>`.
 fn reference(tag: &str) -> Vec<Record> {
     let dir = fresh(tag);
@@ -75,15 +89,8 @@ fn resume_after_interruption_is_byte_identical() {
     assert_eq!(err.message, "simulated interruption");
     assert_eq!(e.finished(), vec![0, 1, 2, 3], "runs before the stop saved");
     // resumed: only the missing runs are computed
-    let calls = AtomicUsize::new(0);
-    let got = complete(
-        e.run(300, |_, seed, _| {
-            calls.fetch_add(1, Ordering::SeqCst);
-            one_run(seed)
-        })
-        .unwrap(),
-    );
-    assert_eq!(calls.load(Ordering::SeqCst), RUNS - 4);
+    let (got, computed) = run_counted(&e);
+    assert_eq!(computed, RUNS - 4);
     assert_eq!(
         serde_json::to_string(&got).unwrap(),
         serde_json::to_string(&want).unwrap()
@@ -109,15 +116,8 @@ fn resume_after_interruption_is_byte_identical() {
     let e9 = Ensemble::new(&dir, "t", &key(), SEED, RUNS + 2, None)
         .unwrap()
         .quiet();
-    let calls = AtomicUsize::new(0);
-    let got9 = complete(
-        e9.run(300, |_, seed, _| {
-            calls.fetch_add(1, Ordering::SeqCst);
-            one_run(seed)
-        })
-        .unwrap(),
-    );
-    assert_eq!(calls.load(Ordering::SeqCst), 2);
+    let (got9, computed) = run_counted(&e9);
+    assert_eq!(computed, 2);
     assert_eq!(got9[..RUNS], want[..]);
 }
 
