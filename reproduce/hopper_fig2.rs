@@ -11,7 +11,7 @@ use granular_automata::cli::Common;
 use granular_automata::drivers::hopper_figures::Fig2Runs;
 use granular_automata::hopper::experiment::{Case, Plan};
 use granular_automata::hopper::HopperParams;
-use granular_automata::run::{derive_seed, Figure};
+use granular_automata::run::{run_seeds, Figure};
 
 #[derive(Parser, Debug)]
 #[command(about = "BB90 Fig. 2: hopper filling and emptying, beta = 0 vs beta = 1")]
@@ -51,7 +51,7 @@ fn main() -> granular_automata::Result<()> {
     // lattice, whose rays read as dense and hold an arch; fill to 70% instead
     plan.fill_fraction = tier.pick(0.7, 0.85, 0.85);
     let out = fig.output(&c.out)?;
-    let seeds: Vec<u64> = (0..runs as u64).map(|r| derive_seed(c.seed, r)).collect();
+    let seeds: Vec<u64> = run_seeds(c.seed, runs);
     let fig2 = Fig2Runs::run(base, cases, &seeds, &plan, c.thread_count())?;
     let metrics = fig2.metrics();
 

@@ -14,7 +14,7 @@ use granular_automata::drivers::hopper_figures::{
 };
 use granular_automata::hopper::experiment::{run_cases, Case};
 use granular_automata::hopper::experiment::{WINDOW_BLOCK, WINDOW_FULL, WINDOW_SKIP};
-use granular_automata::run::{derive_seed, Figure};
+use granular_automata::run::{run_seeds, Figure};
 
 #[derive(Parser, Debug)]
 #[command(about = "BB90 Fig. 3: hopper outflow per iteration and its power spectrum")]
@@ -43,7 +43,7 @@ fn main() -> granular_automata::Result<()> {
     let (base, plan, m) = fig3_setup(tier);
     let fig = Figure::start("hopper-fig3", "BB90 Fig. 3", tier, base.rules());
     let out = fig.output(&c.out)?;
-    let seeds: Vec<u64> = (0..runs as u64).map(|r| derive_seed(c.seed, r)).collect();
+    let seeds: Vec<u64> = run_seeds(c.seed, runs);
     let recs = run_cases(base, cases, &seeds, &plan, c.thread_count())?;
     let readings = fig3_readings(cases, &recs, m, tier)?;
     // Fig. 3a/b from run 0 of each case; the spectra

@@ -16,7 +16,7 @@ use granular_automata::drivers::fig11::{
     corr_ensembles, draw_correlation, draw_space_time, fig11_readings, I_CORR,
 };
 use granular_automata::drivers::open_pipe::{fig11_pipe, FIG11_CORR, FIG11_INJECT};
-use granular_automata::run::{derive_seed, Output, Summary};
+use granular_automata::run::{derive_seed, run_seeds, Output, Summary};
 use serde_json::json;
 use std::time::Instant;
 
@@ -86,7 +86,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         figure: "waves-fig11".into(),
         paper: "PH95 Fig. 11".into(),
         tier: c.tier,
-        seeds: (0..runs as u64).map(|i| derive_seed(c.seed, i)).collect(),
+        seeds: run_seeds(c.seed, runs),
         params: json!({"paper": fig11_pipe(I_PAPER), "correlation": fig11_pipe(I_CORR), "steps": steps, "every": EVERY, "skip_samples": SKIP, "t_max_samples": T_MAX, "R_bins": R}),
         rules: rules.to_string(),
         engine: engine.label(),

@@ -25,7 +25,7 @@ use granular_automata::drivers::spectra::tier_setup;
 use granular_automata::drivers::sweep::{run_sweep, site_updates};
 use granular_automata::pipe::open::{trend_threshold, PipeSize, TREND_FALSE_ALARM};
 use granular_automata::pipe::Params;
-use granular_automata::run::{derive_seed, Output, Summary};
+use granular_automata::run::{run_seeds, Output, Summary};
 use serde_json::json;
 use std::time::Instant;
 
@@ -131,7 +131,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         figure: "waves-fig12".into(),
         paper: "PH95 Fig. 12".into(),
         tier: c.tier,
-        seeds: (0..runs.max(sruns) as u64).map(|i| derive_seed(c.seed, i)).collect(),
+        seeds: run_seeds(c.seed, runs.max(sruns)),
         params: json!({"base": base, "geometries": geoms, "trend_steps": steps, "trend_every": EVERY, "trend_runs": runs,
             "trend_false_alarm": TREND_FALSE_ALARM, "trend_threshold": thr,
             "bisection_steps": bisect_steps, "spectrum_runs": sruns, "I_over_I_c": ifr, "setup": setup_of(fig12_pipe(l0, w0, i_c))}),

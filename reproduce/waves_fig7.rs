@@ -12,7 +12,7 @@ use granular_automata::drivers::spectra::{
 };
 use granular_automata::drivers::white_noise;
 use granular_automata::pipe::Params;
-use granular_automata::run::{derive_seed, mark_discrepancies, Output, Summary};
+use granular_automata::run::{mark_discrepancies, run_seeds, Output, Summary};
 use serde_json::json;
 use std::time::Instant;
 
@@ -48,9 +48,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         8,
         margin("waves-fig7", "alpha_p0").map_or(8, |m| m.runs),
     );
-    let seeds: Vec<u64> = (0..runs as u64)
-        .map(|i| derive_seed(args.common.seed, i))
-        .collect();
+    let seeds: Vec<u64> = run_seeds(args.common.seed, runs);
     let out = Output::new(&args.common.out, "waves-fig7")?;
 
     let start = Instant::now();

@@ -72,6 +72,12 @@ pub fn derive_seed(base: u64, index: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// The seeds of runs 0..`runs` of an ensemble with base seed `base`
+/// ([`derive_seed`] of each index).
+pub fn run_seeds(base: u64, runs: usize) -> Vec<u64> {
+    (0..runs as u64).map(|i| derive_seed(base, i)).collect()
+}
+
 /// Number of worker threads: all available cores.
 pub fn threads() -> usize {
     std::thread::available_parallelism()

@@ -26,7 +26,7 @@ use super::acceptance::margin;
 use super::spectra::{bin_series, resumable_ensemble, tier_setup, SpectrumRun, SpectrumSetup};
 use crate::cli::Common;
 use crate::pipe::{Engine, Params, Rules};
-use crate::run::{derive_seed, ensemble_with_threads, write_atomic};
+use crate::run::{ensemble_with_threads, run_seeds, write_atomic};
 
 /// The median of per-run values with its bootstrap standard error.
 fn median_of(values: &[f64]) -> Result<Estimate> {
@@ -763,9 +763,7 @@ pub fn pilot_study(common: &Common, figure: &str, group: usize, open_runs: usize
         );
     }
     let n_open = open_runs.min(runs);
-    let seeds: Vec<u64> = (0..n_open as u64)
-        .map(|i| derive_seed(common.seed, i))
-        .collect();
+    let seeds: Vec<u64> = run_seeds(common.seed, n_open);
     let series = ensemble_with_threads(n_open, common.thread_count(), |i| {
         bin_series(&setup, seeds[i], &|_| {})
     })
@@ -844,9 +842,7 @@ pub fn hopper_pilot(common: &Common, runs: usize) -> Result<()> {
     }
     let (base, plan, m) = fig3_setup(common.tier);
     let cases = Case::parse_list("beta1_bond,beta0")?;
-    let seeds: Vec<u64> = (0..runs as u64)
-        .map(|i| derive_seed(common.seed, i))
-        .collect();
+    let seeds: Vec<u64> = run_seeds(common.seed, runs);
     let recs = run_cases(base, &cases, &seeds, &plan, common.thread_count())?;
     let mut rows = Vec::new();
     println!(
@@ -904,9 +900,7 @@ pub fn sweep_pilot(common: &Common, runs: usize) -> Result<()> {
         return Err(crate::Error::out_of_range("--open-runs", runs, "[3, ...)"));
     }
     let base = Params::default();
-    let seeds: Vec<u64> = (0..runs as u64)
-        .map(|i| derive_seed(common.seed, i))
-        .collect();
+    let seeds: Vec<u64> = run_seeds(common.seed, runs);
     let mut points = Vec::new();
     for &x in super::sweep::FIG8_P.iter().filter(|&&x| x > 0.0) {
         let setup = tier_setup(

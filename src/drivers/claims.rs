@@ -37,7 +37,7 @@ use crate::pipe::record::{
 };
 use crate::pipe::Engine;
 use crate::pipe::{Boundary, Params, Rules};
-use crate::run::{derive_seed, ensemble, Check, Tier};
+use crate::run::{ensemble, run_seeds, Check, Tier};
 use serde::{Deserialize, Serialize};
 
 pub use crate::analysis::grading::Verdict;
@@ -502,9 +502,7 @@ pub fn grade_groups(
                 tweak,
             },
             size,
-            seeds: (0..group.runs(size) as u64)
-                .map(|i| derive_seed(seed, i))
-                .collect(),
+            seeds: run_seeds(seed, group.runs(size)),
             tick,
         };
         match group {

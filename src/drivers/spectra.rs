@@ -409,14 +409,12 @@ pub fn run_figure(
     rules: Rules,
     engine: Engine,
 ) -> Result<Option<crate::run::Summary>> {
-    use crate::run::{derive_seed, Check, Output, Summary};
+    use crate::run::{run_seeds, Check, Output, Summary};
     let setup = tier_setup(common.tier, fig.params, rules, engine);
     let acceptance = common.tier.is_acceptance();
     let margin = |check| super::acceptance::margin(fig.binary, check);
     let runs = common.runs_for(4, 8, 8, margin("alpha").map_or(8, |m| m.runs));
-    let seeds: Vec<u64> = (0..runs as u64)
-        .map(|i| derive_seed(common.seed, i))
-        .collect();
+    let seeds: Vec<u64> = run_seeds(common.seed, runs);
     let start = std::time::Instant::now();
     let Some(ens) = resumable_ensemble(common, fig.binary, "spectrum", &setup, runs)? else {
         return Ok(None);

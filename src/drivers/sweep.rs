@@ -736,9 +736,7 @@ impl<'a> SweepFigure<'a> {
         let seed = self.args.common.seed;
         self.figure.finish(
             &self.out,
-            (0..self.runs as u64)
-                .map(|i| crate::run::derive_seed(seed, i))
-                .collect(),
+            crate::run::run_seeds(seed, self.runs),
             params,
             site_updates(&self.points, self.runs, |p| self.setup_of(p)),
             metrics,
