@@ -5,8 +5,9 @@
 //! of waves-fig12 (open pipe just below I_c, PH95 Fig. 12). `cargo run
 //! --release --bin bench`
 use clap::Parser;
+use granular_automata::drivers::open_pipe::fig12_pipe;
 use granular_automata::pipe::Engine;
-use granular_automata::pipe::{Boundary, Params, Rules};
+use granular_automata::pipe::{Params, Rules};
 use std::time::Instant;
 
 #[derive(Parser)]
@@ -58,15 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // (L = 220, W = 11, I = 0.5078, just below its I_c = 0.5117): the bottom
     // fills with rest particles and most of the time goes to relocation's
     // walk (MODEL.md A4); timed from the empty start over 5x the steps
-    let params = Params {
-        length: 220,
-        width: 11,
-        p: 0.5,
-        b: 0.5,
-        g: 0.5,
-        boundary: Boundary::Open { inject: 0.5078 },
-        ..Params::default()
-    };
+    let params = fig12_pipe(220, 11, 0.5078);
     let what = format!("L =   220, W = 11, open I = 0.5078 (waves-fig12 lower end), rules {rules}");
     time(&what, &engines, params, rules, a.seed, 0, 5 * a.steps)
 }

@@ -14,20 +14,26 @@ use crate::pipe::{Boundary, Params, Rules};
 use crate::run::{ensemble, ensemble_until, threads, Check};
 use serde::{Deserialize, Serialize};
 
-/// The pipe of PH95 Fig. 11: L = 1000, W = 5, bins of 10 rows, p = b =
-/// 0.5, g = 0.2, rho = 1 (unused: the pipe starts empty), injection rate
-/// `inject` (published: 0.5).
-pub fn fig11_pipe(inject: f64) -> Params {
+/// The open pipe of PH95 III I (Figs. 11-12): `length` x `width`, p = b =
+/// 0.5, gravity `g`, injection rate `inject`, bins of 10 rows, rho = 1
+/// (unused: the pipe starts empty).
+pub fn ph95_open_pipe(length: usize, width: usize, g: f64, inject: f64) -> Params {
     Params {
-        length: 1000,
-        width: 5,
+        length,
+        width,
         p: 0.5,
         b: 0.5,
-        g: 0.2,
+        g,
         bin: 10,
+        rho: 1.0,
         boundary: Boundary::Open { inject },
-        ..Params::default()
     }
+}
+
+/// The pipe of PH95 Fig. 11: L = 1000, W = 5, g = 0.2, injection rate
+/// `inject` (published: 0.5).
+pub fn fig11_pipe(inject: f64) -> Params {
+    ph95_open_pipe(1000, 5, 0.2, inject)
 }
 
 /// The published injection rate of PH95 Fig. 11.
@@ -272,18 +278,10 @@ pub fn fig11_speed_check(speed: &CorrSpeed, runs: usize) -> Check {
     )
 }
 
-/// The pipe of PH95 Fig. 12 (p = b = g = 0.5) of `length` x `width` with
-/// injection rate `inject`, bins of 10 rows.
+/// The pipe of PH95 Fig. 12 (g = 0.5) of `length` x `width` with injection
+/// rate `inject`.
 pub fn fig12_pipe(length: usize, width: usize, inject: f64) -> Params {
-    Params {
-        length,
-        width,
-        p: 0.5,
-        b: 0.5,
-        g: 0.5,
-        boundary: Boundary::Open { inject },
-        ..Params::default()
-    }
+    ph95_open_pipe(length, width, 0.5, inject)
 }
 
 /// Margin Delta of the I_c claims: I_c is quoted to two decimals (0.52), and
