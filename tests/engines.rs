@@ -6,11 +6,12 @@
 //! check that the plumbing hands it the figure's runs).
 
 mod common;
+use common::models::pipe;
 use common::{contradicted, metric, pass, run_figure};
 use granular_automata::pipe::engine::{EngineBuilder, Reference};
 use granular_automata::pipe::fast::Fast;
 use granular_automata::pipe::Engine;
-use granular_automata::pipe::{Boundary, Params, Rules};
+use granular_automata::pipe::{Boundary, Rules};
 use granular_automata::validate::mutants::MUTANTS;
 use std::process::Command;
 
@@ -124,12 +125,7 @@ fn fingerprint(engine: &dyn EngineBuilder) -> u64 {
     ] {
         let rules: Rules = rules.parse().unwrap();
         for boundary in [Boundary::Periodic, Boundary::Open { inject: 0.9 }] {
-            let params = Params {
-                width: 5,
-                length: 60,
-                boundary,
-                ..Params::default()
-            };
+            let params = pipe(60, 5, boundary);
             let mut e = engine.build(params, rules, 1616).unwrap();
             // a pipe that fills stops with an error: its step is part of the print
             if let Err(err) = e.run(400) {

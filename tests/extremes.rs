@@ -517,6 +517,7 @@ mod hopper {
 /// reading of "aligned". Any change of the dynamics (rules, order of random
 /// draws) changes them; review with `cargo insta review` and record why.
 mod golden {
+    use crate::common::models::pipe;
     use granular_automata::hopper::{Aligned, Hopper, HopperParams};
     use granular_automata::pipe::{Boundary, Params, Pipe, Rules};
 
@@ -547,11 +548,7 @@ mod golden {
     }
 
     fn small() -> Params {
-        Params {
-            width: 5,
-            length: 60,
-            ..Params::default()
-        }
+        pipe(60, 5, Boundary::Periodic)
     }
 
     #[test]

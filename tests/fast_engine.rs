@@ -4,6 +4,9 @@
 //! errors, and the observables of one state. Its random steps are compared
 //! with the reference's exact one-step tables by `validate --candidate fast`.
 
+mod common;
+
+use common::models::pipe;
 use granular_automata::pipe::draws::Draws;
 use granular_automata::pipe::engine::{EngineBuilder, PipeEngine, Reference};
 use granular_automata::pipe::fast::{Fast, FastPipe};
@@ -362,12 +365,7 @@ fn the_default_is_the_old_default_in_the_periodic_pipe() {
     let old: Rules = "ph94+gravity-first+wall-move".parse().unwrap();
     assert_ne!(Rules::default(), old);
     for boundary in [Boundary::Periodic, Boundary::Open { inject: 0.4 }] {
-        let p = Params {
-            length: 60,
-            width: 5,
-            boundary,
-            ..Params::default()
-        };
+        let p = pipe(60, 5, boundary);
         let state = |b: &dyn EngineBuilder, r: Rules| {
             let mut e = b.build(p, r, SEED).unwrap();
             e.run(300).unwrap();
@@ -482,11 +480,7 @@ fn lane_collide_deflects_a_down_mover_resting_on_another() {
 /// are there. A fast engine that ignored the rule would fail this.
 #[test]
 fn lane_collide_breaks_the_lane_of_down_movers() {
-    let p = Params {
-        length: 220,
-        width: 11,
-        ..Params::default()
-    };
+    let p = Params::default();
     let share = |rules: &str| {
         let mut e = FastPipe::new(p, rules.parse().unwrap(), SEED).unwrap();
         e.run(20_000).unwrap();
@@ -797,12 +791,7 @@ fn every_reading_is_supported() {
                 continue;
             }
             for boundary in [Boundary::Periodic, Boundary::Open { inject: 0.5 }] {
-                let p = Params {
-                    length: 40,
-                    width: 5,
-                    boundary,
-                    ..Params::default()
-                };
+                let p = pipe(40, 5, boundary);
                 let mut e = Fast.build(p, rules, SEED).unwrap();
                 let n = e.particle_count() as i128;
                 e.run(50).unwrap();

@@ -245,18 +245,17 @@ fn golden(name: &str, readings: &[&str]) {
 #[test]
 fn every_parameter_accepts_its_boundaries_and_rejects_values_just_outside() {
     let ok = Params::default();
+    // the open pipe at injection rate I
+    let open = |inject| Params {
+        boundary: Boundary::Open { inject },
+        ..ok
+    };
+    let p_above_1 = 1.0 + 1e-9;
     let cases: Vec<(&str, Params, bool)> = vec![
         ("p", Params { p: 0.0, ..ok }, true),
         ("p", Params { p: 1.0, ..ok }, true),
         ("p", Params { p: -1e-9, ..ok }, false),
-        (
-            "p",
-            Params {
-                p: 1.0 + 1e-9,
-                ..ok
-            },
-            false,
-        ),
+        ("p", Params { p: p_above_1, ..ok }, false),
         ("g", Params { g: 0.0, ..ok }, true),
         ("g", Params { g: 1.0, ..ok }, true),
         ("g", Params { g: -0.1, ..ok }, false),
@@ -273,8 +272,7 @@ fn every_parameter_accepts_its_boundaries_and_rejects_values_just_outside() {
             "rho",
             Params {
                 rho: 0.0,
-                boundary: Boundary::Open { inject: 0.5 },
-                ..ok
+                ..open(0.5)
             },
             true,
         ),
@@ -287,30 +285,9 @@ fn every_parameter_accepts_its_boundaries_and_rejects_values_just_outside() {
         ("L", Params { length: 225, ..ok }, false),
         ("bin", Params { bin: 1, ..ok }, true),
         ("bin", Params { bin: 0, ..ok }, false),
-        (
-            "I",
-            Params {
-                boundary: Boundary::Open { inject: 0.0 },
-                ..ok
-            },
-            true,
-        ),
-        (
-            "I",
-            Params {
-                boundary: Boundary::Open { inject: 1.0 },
-                ..ok
-            },
-            true,
-        ),
-        (
-            "I",
-            Params {
-                boundary: Boundary::Open { inject: 1.5 },
-                ..ok
-            },
-            false,
-        ),
+        ("I", open(0.0), true),
+        ("I", open(1.0), true),
+        ("I", open(1.5), false),
     ];
     for (name, params, accept) in cases {
         match Pipe::new(params, Rules::default(), SEED) {

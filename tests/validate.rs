@@ -15,14 +15,14 @@ use granular_automata::validate::candidate::Builtin;
 use granular_automata::validate::conformance::{exact, probes};
 use granular_automata::validate::mutants::{Mutant, Scaled, MUTANTS};
 use granular_automata::validate::{validate, Level, Model, Plan, Report};
-use std::path::PathBuf;
-use std::process::Command;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 fn out(tag: &str) -> PathBuf {
     common::fresh_dir(&format!("validate-{tag}"))
 }
 
-fn report(dir: &std::path::Path) -> serde_json::Value {
+fn report(dir: &Path) -> serde_json::Value {
     let text = std::fs::read_to_string(dir.join("validate/report.json")).expect("report.json");
     serde_json::from_str(&text).expect("report parses")
 }
@@ -31,21 +31,26 @@ fn report(dir: &std::path::Path) -> serde_json::Value {
 /// it exits successfully, and return its report.json.
 fn passing(tag: &str, args: &[&str]) -> (PathBuf, serde_json::Value) {
     let dir = out(tag);
-    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(args)
-        .arg("--out")
-        .arg(&dir)
-        .status()
-        .unwrap();
-    assert!(status.success(), "validate {args:?}");
+    let o = run_validate(args, &dir);
+    assert!(o.status.success(), "validate {args:?}: {}", text(&o.stderr));
     let r = report(&dir);
     (dir, r)
 }
 
-/// The exit code of `validate ARGS --out DIR`.
-fn exit_code(args: &[&str], dir: &std::path::Path) -> Option<i32> {
+/// `validate ARGS --out DIR`, run to its end.
+fn run_validate(args: &[&str], dir: &Path) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_validate"));
-    c.args(args).arg("--out").arg(dir).status().unwrap().code()
+    c.args(args).arg("--out").arg(dir).output().unwrap()
+}
+
+/// What a run printed, as text.
+fn text(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
+    String::from_utf8_lossy(bytes)
+}
+
+/// The exit code of `validate ARGS --out DIR`.
+fn exit_code(args: &[&str], dir: &Path) -> Option<i32> {
+    run_validate(args, dir).status.code()
 }
 
 /// The arguments of a quick-tier validation of `candidate` at `level`,
@@ -210,13 +215,8 @@ fn scaled_mutants_match_the_catalogue_and_fail_when_gross() {
 #[test]
 fn a_failing_candidate_exits_non_zero_and_says_why() {
     let dir = out("mutant");
-    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(["--candidate", "mutant:r1-same-side", "--level", "1"])
-        .arg("--out")
-        .arg(&dir)
-        .status()
-        .unwrap();
-    assert_eq!(status.code(), Some(1));
+    let args = ["--candidate", "mutant:r1-same-side", "--level", "1"];
+    assert_eq!(exit_code(&args, &dir), Some(1));
     let md = std::fs::read_to_string(dir.join("validate/report.md")).unwrap();
     assert!(md.contains("FAIL") && md.contains("interior"), "{md}");
     // a wrong candidate name is a usage error naming the mutants
@@ -228,13 +228,12 @@ fn a_failing_candidate_exits_non_zero_and_says_why() {
 fn the_external_example_passes_through_the_contract() {
     let dir = out("external");
     let cmd = format!("cmd:{}", env!("CARGO_BIN_EXE_validate-example"));
-    let status = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(["--candidate", &cmd, "--level", "all", "--trials", "1000"])
-        .args(["--runs", "4", "--hopper-runs", "4", "--out"])
-        .arg(&dir)
-        .status()
-        .unwrap();
-    assert!(status.success());
+    let args = ["--candidate", &cmd, "--level", "all", "--trials", "1000"];
+    let o = run_validate(
+        &[&args[..], &["--runs", "4", "--hopper-runs", "4"]].concat(),
+        &dir,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
     let r = report(&dir);
     assert_eq!(r["pass"], true);
     // the hopper through its contract (issue 33 item 5): both levels
@@ -372,20 +371,10 @@ fn a_stalled_candidate_is_stopped_and_named() {
         ("pipe", "1", "plan seed"),
         ("hopper", "all", "hopper plan seed"),
     ] {
-        let o = Command::new(env!("CARGO_BIN_EXE_validate"))
-            .args([
-                "--candidate",
-                "cmd:sleep 100 #",
-                "--model",
-                model,
-                "--level",
-                level,
-            ])
-            .args(["--run-timeout", "0.5", "--out"])
-            .arg(&dir)
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&o.stderr);
+        let args = ["--candidate", "cmd:sleep 100 #", "--model", model];
+        let limit = ["--level", level, "--run-timeout", "0.5"];
+        let o = run_validate(&[&args[..], &limit].concat(), &dir);
+        let err = text(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{err}");
         assert!(
             err.contains("time limit of 0.5 s") && err.contains(needle),
@@ -421,13 +410,12 @@ fn correlated_draws_pass_the_lone_sites_and_fail_the_memory_probes() {
 #[test]
 fn detect_picks_trials_that_catch_the_target_error() {
     let dir = out("detect");
-    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args(["--candidate", "mutant:p-r3*1.2", "--detect", "10%"])
-        .args(["--level", "1", "--model", "pipe", "--out"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&o.stdout);
+    let args = ["--candidate", "mutant:p-r3*1.2", "--detect", "10%"];
+    let o = run_validate(
+        &[&args[..], &["--level", "1", "--model", "pipe"]].concat(),
+        &dir,
+    );
+    let text = text(&o.stdout);
     assert_eq!(o.status.code(), Some(1), "{text}");
     let first = text.lines().next().unwrap();
     assert!(

@@ -12,15 +12,14 @@ mod common;
 use common::pass;
 
 fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
-    let mut args = vec!["--tier", "quick", "--seed", "1"];
-    args.extend_from_slice(extra);
     let files = [
         "fig2a.png",
         "fig2b.png",
         "fig2b_spacetime_run0.csv",
         "fig2a_snapshots_run0.csv",
     ];
-    run_figure!("waves-fig2", &args, tag, &files,)
+    let args = [&["--tier", "quick", "--seed", "1"], extra].concat();
+    run_figure!("waves-fig2", &args, tag, &files)
 }
 
 #[test]

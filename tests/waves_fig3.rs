@@ -9,12 +9,11 @@ use common::metric;
 use common::pass;
 
 fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
-    let mut args = vec![
+    let files = ["fig3a.png", "fig3b.png", "fig3.csv"];
+    let quick = [
         "--tier", "quick", "--seed", "1", "--runs", "16", "--steps", "4000",
     ];
-    args.extend_from_slice(extra);
-    let files = ["fig3a.png", "fig3b.png", "fig3.csv"];
-    run_figure!("waves-fig3", &args, tag, &files,)
+    run_figure!("waves-fig3", &[&quick, extra].concat(), tag, &files)
 }
 
 /// Base seed of every run in this file.

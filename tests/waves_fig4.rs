@@ -20,7 +20,13 @@ mod common;
 use common::{contradicted, pass};
 
 fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
-    let mut args = vec![
+    let files = [
+        "fig4.png",
+        "fig4_shape.png",
+        "fig4_profiles.csv",
+        "runs.csv",
+    ];
+    let quick = [
         "--tier",
         "quick",
         "--seed",
@@ -30,14 +36,7 @@ fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
         "--lengths",
         "1024",
     ];
-    args.extend_from_slice(extra);
-    let files = [
-        "fig4.png",
-        "fig4_shape.png",
-        "fig4_profiles.csv",
-        "runs.csv",
-    ];
-    run_figure!("waves-fig4", &args, tag, &files,)
+    run_figure!("waves-fig4", &[&quick, extra].concat(), tag, &files)
 }
 
 #[test]

@@ -18,43 +18,22 @@
 //! on the `ph94` reading (the default until session 2), which forms bands in
 //! about half of its runs.
 
+mod common;
+
+use common::pass;
 use granular_automata::analysis::grading::{grade, Claim, Estimate, Verdict};
-use std::path::PathBuf;
-use std::process::Command;
 
 fn run(tag: &str, extra: &[&str]) -> serde_json::Value {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("waves-fig5-{tag}"));
-    let _ = std::fs::remove_dir_all(&out);
-    let status = Command::new(env!("CARGO_BIN_EXE_waves-fig5"))
-        .args(["--tier", "quick", "--seed", "1", "--out"])
-        .arg(&out)
-        .args(extra)
-        .status()
-        .unwrap();
-    assert!(status.success());
-    for f in ["fig5.png", "fig5_spectrum.png", "fig5.csv", "runs.csv"] {
-        assert!(out.join("waves-fig5").join(f).exists(), "{f}");
-    }
-    serde_json::from_str(&std::fs::read_to_string(out.join("waves-fig5/summary.json")).unwrap())
-        .unwrap()
-}
-
-fn passes(s: &serde_json::Value, name: &str) -> bool {
-    s["checks"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap()["pass"]
-        .as_bool()
-        .unwrap()
+    let files = ["fig5.png", "fig5_spectrum.png", "fig5.csv", "runs.csv"];
+    let args = [&["--tier", "quick", "--seed", "1"], extra].concat();
+    run_figure!("waves-fig5", &args, tag, &files)
 }
 
 #[test]
 fn fig5_quick_ph94_wave_runs_speeds_agree_over_the_late_lags() {
     let s = run("ph94", &["--rules", "ph94"]);
     assert!(
-        passes(&s, "speeds_agree_wave_runs_late_lags"),
+        pass(&s, "speeds_agree_wave_runs_late_lags"),
         "{}",
         s["metrics"]
     );

@@ -5,7 +5,18 @@ use granular_automata::hopper::energy::{motion, orientation};
 use granular_automata::hopper::model::{grain_state, is_grain};
 use granular_automata::hopper::{Aligned, Hopper};
 use granular_automata::lattice::velocity;
-use granular_automata::pipe::{GravityWording, RestPlacement, Rules};
+use granular_automata::pipe::{Boundary, GravityWording, Params, RestPlacement, Rules};
+
+/// A pipe of L = `length` rows and W = `width` columns with `boundary`; p,
+/// g, b, rho and the bins at their defaults (PH94 Fig. 2, [`Params::default`]).
+pub fn pipe(length: usize, width: usize, boundary: Boundary) -> Params {
+    Params {
+        length,
+        width,
+        boundary,
+        ..Params::default()
+    }
+}
 
 /// Every rule reading (the 96 combinations of the rule switches).
 pub fn all_rules() -> Vec<Rules> {
