@@ -228,11 +228,19 @@ fn a_failing_candidate_exits_non_zero_and_says_why() {
 fn the_external_example_passes_through_the_contract() {
     let dir = out("external");
     let cmd = format!("cmd:{}", env!("CARGO_BIN_EXE_validate-example"));
-    let args = ["--candidate", &cmd, "--level", "all", "--trials", "1000"];
-    let o = run_validate(
-        &[&args[..], &["--runs", "4", "--hopper-runs", "4"]].concat(),
-        &dir,
-    );
+    let args = [
+        "--candidate",
+        &cmd,
+        "--level",
+        "all",
+        "--trials",
+        "1000",
+        "--runs",
+        "4",
+        "--hopper-runs",
+        "4",
+    ];
+    let o = run_validate(&args, &dir);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let r = report(&dir);
     assert_eq!(r["pass"], true);
@@ -371,9 +379,17 @@ fn a_stalled_candidate_is_stopped_and_named() {
         ("pipe", "1", "plan seed"),
         ("hopper", "all", "hopper plan seed"),
     ] {
-        let args = ["--candidate", "cmd:sleep 100 #", "--model", model];
-        let limit = ["--level", level, "--run-timeout", "0.5"];
-        let o = run_validate(&[&args[..], &limit].concat(), &dir);
+        let args = [
+            "--candidate",
+            "cmd:sleep 100 #",
+            "--model",
+            model,
+            "--level",
+            level,
+            "--run-timeout",
+            "0.5",
+        ];
+        let o = run_validate(&args, &dir);
         let err = text(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{err}");
         assert!(
@@ -410,11 +426,17 @@ fn correlated_draws_pass_the_lone_sites_and_fail_the_memory_probes() {
 #[test]
 fn detect_picks_trials_that_catch_the_target_error() {
     let dir = out("detect");
-    let args = ["--candidate", "mutant:p-r3*1.2", "--detect", "10%"];
-    let o = run_validate(
-        &[&args[..], &["--level", "1", "--model", "pipe"]].concat(),
-        &dir,
-    );
+    let args = [
+        "--candidate",
+        "mutant:p-r3*1.2",
+        "--detect",
+        "10%",
+        "--level",
+        "1",
+        "--model",
+        "pipe",
+    ];
+    let o = run_validate(&args, &dir);
     let text = text(&o.stdout);
     assert_eq!(o.status.code(), Some(1), "{text}");
     let first = text.lines().next().unwrap();
