@@ -1,4 +1,4 @@
-//! The studies behind `--tier acceptance` (issue 29): `pilot` compares the
+//! The studies behind `--tier acceptance` (MODEL.md A10-A11): `pilot` compares the
 //! candidate estimators and measures the spread over the papers' open
 //! choices on pilot seeds; `stability` reads the summaries of acceptance runs
 //! over many base seeds and tabulates each check's verdicts and coverage;
@@ -12,7 +12,7 @@ use granular_automata::drivers::acceptance_study::{pilot_study, power, stability
 use std::path::PathBuf;
 
 #[derive(Parser)]
-#[command(about = "Pilot and stability studies of the acceptance tier (issue 29)")]
+#[command(about = "Pilot and stability studies of the acceptance tier")]
 struct Args {
     #[command(subcommand)]
     what: What,
@@ -61,7 +61,11 @@ enum What {
     },
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     match Args::parse().what {
         What::Pilot {
             figure,

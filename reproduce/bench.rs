@@ -1,5 +1,5 @@
 //! Site updates per second of the pipe engines, one thread, side by side
-//! (issue 13): the reference engine and the fast engine at the PH94 Fig. 2
+//! (MODEL.md A1-A7): the reference engine and the fast engine at the PH94 Fig. 2
 //! set-up (L = 220) and the Fig. 1 set-up (L = 2200), W = 11, rho = 1,
 //! p = g = b = 0.5; then, where relocation's walk dominates, the lower end
 //! of waves-fig12 (open pipe just below I_c, PH95 Fig. 12). `cargo run
@@ -27,7 +27,11 @@ struct Args {
     engines: String,
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
     let rules: Rules = a.rules.parse()?;
     // L = 2200 runs a tenth of the steps: fewer than 10 would time nothing

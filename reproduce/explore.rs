@@ -51,7 +51,11 @@ struct Args {
     stops: bool,
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
     let rules = a.rules.parse()?;
     let engine = a.rules.engine(granular_automata::run::Tier::Quick)?;

@@ -25,7 +25,11 @@ struct Args {
     rules: PipeRules,
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, engine, c) = args.rules.start(&args.common, "fig1", "PH94 Fig. 1")?;
     // Bands need the full length and duration (shorter pipes or runs do not form

@@ -10,7 +10,11 @@ use granular_automata::drivers::margins::{ALPHA_MARGIN, V_MARGIN};
 use granular_automata::drivers::spectra::SpectrumFigure;
 use granular_automata::pipe::Params;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = PipeArgs::parse_about(
         "PH94 Fig. 2: 1/f^alpha density spectrum with a wave peak (L = 220, p = g = b = 0.5)",
     );
@@ -20,7 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // the default pipe is this figure's: L = 220, W = 11, rho = 1, p = g = b = 0.5
         params: Params::default(),
         // PH94: alpha = 1.33 +- 0.02 and a peak at v = 0.40; margins Delta
-        // fixed in session 2, as in the matrix (drivers::claims)
+        // fixed before measuring, as in the matrix (drivers::claims)
         alpha: (1.33, ALPHA_MARGIN),
         v_peak: Some((0.40, V_MARGIN)),
         note: "",

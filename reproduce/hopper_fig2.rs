@@ -28,7 +28,11 @@ struct Args {
     cases: String,
 }
 
-fn main() -> granular_automata::Result<()> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> granular_automata::Result<()> {
     let args = Args::parse();
     let c = &args.common;
     let cases = Case::parse_list(&args.cases)?;

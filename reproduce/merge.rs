@@ -1,8 +1,8 @@
-//! Merge the output folders of sharded figure runs (issue 6, ensemble
-//! runner): copies every per-run file of `SHARD_DIR/<binary>/runs/` into
-//! `--out`, checking that runs present twice are byte-identical. Then rerun
-//! the figure with `--out` and without `--shard`: it finds every run done and
-//! only analyses.
+//! Merge the output folders of sharded figure runs (the ensemble runner,
+//! `granular_automata::ensemble`): copies every per-run file of
+//! `SHARD_DIR/<binary>/runs/` into `--out`, checking that runs present twice
+//! are byte-identical. Then rerun the figure with `--out` and without
+//! `--shard`: it finds every run done and only analyses.
 //!
 //! `cargo run --release --bin merge -- --out results parts/0 parts/1 parts/2`
 
@@ -21,7 +21,11 @@ struct Args {
     shards: Vec<PathBuf>,
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
     let r = merge(&a.out, &a.shards)?;
     println!(

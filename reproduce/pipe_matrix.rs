@@ -1,4 +1,4 @@
-//! The reproduction matrix (issue 4, extended in issues 14 and 31): every
+//! The reproduction matrix (MODEL.md A10-A11): every
 //! rule reading graded against every published claim of the pipe papers
 //! (PH94 Figs. 1-2, PH95 Figs. 3-12 and III F; `drivers::claims::CLAIMS` lists each
 //! with its published value, statistic and margin), with the measured value
@@ -19,7 +19,7 @@ use serde_json::json;
 use std::time::Instant;
 
 /// The readings graded by default: every named variant of MODEL.md, the
-/// combinations A11 mentions, and `wall-move` (issue 4, session 2) alone and
+/// combinations A11 mentions, and `wall-move` (MODEL.md A6) alone and
 /// with each of the others.
 const READINGS: &str = "ph94,any-mover,up-to-rest,ph94+wall-drag,ph94+gravity-first,ph94+rest-up,\
 ph94+wall-drag+gravity-first,any-mover+wall-drag,any-mover+rest-up,ph94+wall-move,\
@@ -34,7 +34,7 @@ struct Args {
     /// Readings to grade, comma-separated (each a --rules value).
     #[arg(long, default_value = READINGS)]
     readings: String,
-    /// Engine: reference or fast (validated against the reference, issue 13).
+    /// Engine: reference or fast (validated against the reference).
     #[arg(long, default_value = "reference")]
     engine: String,
     /// Groups of claims to grade, comma-separated, or all: bands, spectra,
@@ -47,7 +47,11 @@ struct Args {
     groups: String,
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     args.common.reject_shard("pipe-matrix")?;
     let (tier, seed) = (args.common.tier, args.common.seed);
@@ -79,7 +83,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let mut metrics = write_tables(&out, &rows, (tier, size, seed))?;
     heat_map(&out, &rows, tier, size.runs)?;
-    // issue 4: how many claims the default reproduces (null when the default
+    // how many claims the default reproduces (null when the default
     // is not among --readings) and how many were graded
     let (checks, default_reproduced) = default_checks(&rows, size.runs);
     metrics.insert("default_reproduced".into(), default_reproduced);
@@ -99,7 +103,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         missing_metrics: Default::default(),
         checks,
     })?;
-    add_cells(&summary_path, &rows)?; // the matrix as a list (issue 4)
+    add_cells(&summary_path, &rows)?; // the matrix as a list
     let md = std::fs::read_to_string(out.path("matrix.md"))?;
     let head: Vec<&str> = md.lines().take(5 + CLAIMS.len()).collect();
     println!("{}", head.join("\n"));

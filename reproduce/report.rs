@@ -1,4 +1,4 @@
-//! The reproduction report (issue 17): run every figure binary at one tier
+//! The reproduction report (MODEL.md A10, B6): run every figure binary at one tier
 //! and write `OUT/report/REPORT.md` and `OUT/report/index.html`, one row per
 //! check beside its published value, with thumbnails of every figure.
 //! Finished runs are resumed from `--out`, so a rerun only re-analyses.
@@ -11,7 +11,7 @@
 
 use clap::Parser;
 use granular_automata::cli::parse_threads;
-use granular_automata::report::{parse_extra, publish, run, select, Options};
+use granular_automata::report::{check_publish_folder, parse_extra, publish, run, select, Options};
 use granular_automata::run::Tier;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -79,6 +79,9 @@ fn report() -> granular_automata::Result<()> {
                 d.display()
             ),
         ));
+    }
+    if let Some(dest) = &a.publish {
+        check_publish_folder(&a.out, dest)?;
     }
     if let Some(e) = &a.engine {
         e.parse::<granular_automata::pipe::Engine>()?;

@@ -1,4 +1,4 @@
-//! Speed against accuracy (issue 13 item 4): each figure's key statistic,
+//! Speed against accuracy: each figure's key statistic,
 //! its error bar against the CPU-seconds it cost, per tier and engine;
 //! writes `OUT/speed-accuracy/{speed-accuracy.csv, speed-accuracy.png,
 //! summary.json}` and prints which tier and engine resolve each key most

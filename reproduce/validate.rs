@@ -104,6 +104,9 @@ fn usage(args: &Args) -> granular_automata::Result<Setup> {
     if args.export_table.is_some() {
         return Ok(Setup::Export(rules));
     }
+    if let Some(n) = args.repeat {
+        granular_automata::validate::repeat::seeds(args.seed, n)?;
+    }
     let mut size = Size::for_tier(args.tier).with(args.trials, args.runs, args.hopper_runs);
     if let Some(e) = args.detect {
         println!("{}", detect::resize(&mut size, e, args.tier, args.level)?);

@@ -1,5 +1,5 @@
 //! `validate-detection`: the detection table and plots of VALIDATION.md
-//! ("The smallest detectable error", issue 33 item 2) from the `--repeat`
+//! ("The smallest detectable error") from the `--repeat`
 //! CSVs of the parametric mutants in a folder (default
 //! `docs/validate-detection`): prints the table as Markdown, writes
 //! `detection.csv` and one PNG per (tier, level) into the folder.
@@ -12,12 +12,27 @@ use plotters::prelude::{RGBColor, SeriesLabelPosition};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let dir = PathBuf::from(
-        std::env::args()
-            .nth(1)
-            .unwrap_or_else(|| "docs/validate-detection".into()),
-    );
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let dir = match &args[..] {
+        [] => PathBuf::from("docs/validate-detection"),
+        [h] if h == "--help" || h == "-h" => {
+            println!("usage: validate-detection [DIR] (default docs/validate-detection): the detection table from the --repeat CSVs of the parametric mutants in DIR");
+            return Ok(());
+        }
+        [d] if !d.starts_with('-') => PathBuf::from(d),
+        _ => {
+            return Err(granular_automata::Error::new(
+                granular_automata::ErrorKind::InvalidParameter,
+                format!("usage: validate-detection [DIR]; got {args:?}"),
+            )
+            .into())
+        }
+    };
     let mut rows = Vec::new();
     let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     for entry in entries {

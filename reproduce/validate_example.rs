@@ -14,7 +14,14 @@ use granular_automata::pipe::engine::Reference;
 use granular_automata::validate::mutants::Mutant;
 use granular_automata::validate::{candidate, external_hopper};
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// How to call it (printed by `--help`, and with a usage error).
+const USAGE: &str = "usage: validate-example [--mutant NAME] run --plan - (a RunPlan as JSON on stdin) or validate-example [--mutant NAME] hopper --plan - (a HopperPlan)";
+
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
@@ -28,9 +35,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ["--mutant", name, "hopper", "--plan", "-"] => {
             external_hopper::serve(&name.parse::<Mutant>()?, input, output)?
         }
+        ["--help"] | ["-h"] => println!("{USAGE}"),
         _ => {
-            return Err(format!(
-                "usage: validate-example [--mutant NAME] run --plan - (a RunPlan as JSON on stdin) or validate-example [--mutant NAME] hopper --plan - (a HopperPlan); got {args:?}"
+            return Err(granular_automata::Error::new(
+                granular_automata::ErrorKind::InvalidParameter,
+                format!("{USAGE}; got {args:?}"),
             )
             .into())
         }

@@ -16,7 +16,11 @@ use granular_automata::drivers::sweep::{
 use granular_automata::pipe::Params;
 use serde_json::json;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = PipeArgs::parse_about(
         "PH95 Fig. 10: alpha against b and g, wave speed against b for two gravities",
     );

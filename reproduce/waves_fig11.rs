@@ -30,7 +30,8 @@ struct Args {
     #[arg(long, default_value_t = 40_000, allow_negative_numbers = true)]
     steps: u64,
     /// Only the correlation at I = 0.3: skip the published rate I = 0.5,
-    /// whose runs clogged with the default of sessions 2-8 (no
+    /// whose runs clogged with the earlier default
+    /// `ph94+gravity-first+wall-move` (no
     /// waves-fig11a_I0.5.png, no waves-fig11b_I0.5.png, no check
     /// paper_setup_flows, no clog metrics).
     #[arg(long)]
@@ -45,7 +46,11 @@ const EVERY: u64 = FIG11_CORR.every;
 const SKIP: usize = FIG11_CORR.skip;
 const T_MAX: usize = FIG11_CORR.t_max;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let rules = args.pipe.rules.parse()?;
     let engine = args.pipe.rules.engine(args.pipe.common.tier)?;

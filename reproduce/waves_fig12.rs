@@ -53,7 +53,11 @@ struct Args {
     no_spectra: bool,
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let rules = args.pipe.rules.parse()?;
     let engine = args.pipe.rules.engine(args.pipe.common.tier)?;

@@ -49,7 +49,11 @@ struct RunResult {
     speed: f64,
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, engine, c) = args.wave.start("waves-fig2", "PH95 Fig. 2")?;
     let runs = c.runs_or(3, 8, 32);

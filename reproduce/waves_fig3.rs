@@ -36,7 +36,11 @@ struct Args {
 
 const EARLY: u64 = RELAXATION_EARLY;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, engine, c) = args.wave.start("waves-fig3", "PH95 Fig. 3")?;
     let runs = c.runs_or(64, 64, 64);

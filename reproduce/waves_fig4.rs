@@ -40,7 +40,11 @@ struct Args {
 const T0: u64 = FIELDS_EVERY;
 const BIN: usize = FIG4_BIN;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, engine, c) = args.wave.start("waves-fig4", "PH95 Fig. 4")?;
     let runs = c.runs_or(4, 16, 64);

@@ -37,7 +37,11 @@ const T0: u64 = FIELDS_EVERY;
 const MAX_LAG: usize = FIG5_MAX_LAG;
 const BIN: usize = FIG5_BIN;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let (fig, rules, engine, c) = args.wave.start("waves-fig5", "PH95 Fig. 5")?;
     let accepted = granular_automata::drivers::acceptance::margin("waves-fig5", "wave_speed");

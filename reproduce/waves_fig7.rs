@@ -16,7 +16,11 @@ use granular_automata::run::{mark_discrepancies, run_seeds, Output, Summary};
 use serde_json::json;
 use std::time::Instant;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = PipeArgs::parse_about(
         "PH95 Fig. 7: white-noise spectra at p = 0 and at b = 0 (peak at v = 1/2)",
     );

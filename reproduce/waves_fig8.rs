@@ -30,7 +30,11 @@ struct Args {
     p: Vec<f64>,
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let Args {
         pipe: args,
         p: chosen,

@@ -37,7 +37,11 @@ struct Args {
     length: usize,
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
+}
+
+fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let mut rhos: Vec<f64> = if args.rho.is_empty() {
         args.pipe

@@ -178,13 +178,36 @@ impl PipeArgs {
     }
 }
 
+/// Exit status of a failed command, by the kind of its error: 2 for a
+/// usage error (a value out of its range, an unknown name, options that do
+/// not fit together: [`crate::ErrorKind::InvalidParameter`], as clap's own
+/// usage errors), 1 for a failure while running (input or output, a series
+/// that cannot be analysed).
+pub fn exit_status(e: &(dyn std::error::Error + 'static)) -> i32 {
+    match e.downcast_ref::<crate::Error>() {
+        Some(e)
+            if matches!(
+                e.kind,
+                crate::ErrorKind::InvalidParameter | crate::ErrorKind::RestExceedsSites
+            ) =>
+        {
+            2
+        }
+        _ => 1,
+    }
+}
+
 /// Run a command's `body`; on an error print `binary: error` to stderr and
-/// exit with status 1 (the commands that are not figures: `report`,
-/// `speed-accuracy`).
-pub fn exit_on_error(binary: &str, body: impl FnOnce() -> crate::Result<()>) {
+/// exit with [`exit_status`] (2 for a usage error, 1 otherwise). Every
+/// binary's `main` is this call.
+pub fn exit_on_error<E>(binary: &str, body: impl FnOnce() -> Result<(), E>)
+where
+    E: Into<Box<dyn std::error::Error>>,
+{
     if let Err(e) = body() {
+        let e: Box<dyn std::error::Error> = e.into();
         eprintln!("{binary}: {e}");
-        std::process::exit(1);
+        std::process::exit(exit_status(e.as_ref()));
     }
 }
 

@@ -1,4 +1,4 @@
-//! The ensemble runner shared by the figure binaries (issue 6): N independent
+//! The ensemble runner shared by the figure binaries: N independent
 //! runs with seeds derived from a base seed and the run index
 //! ([`derive_seed`]), spread over threads, each finished run saved at once so
 //! an interrupted figure resumes where it stopped, and sharding (`--shard i/n`)

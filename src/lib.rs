@@ -32,10 +32,10 @@
 //! ([`run::Summary`]) under `--out DIR/<binary>/`. Runs are pure functions of
 //! (parameters, rules, seed); the ensemble runner is [`ensemble`].
 //!
-//! **The engine contract** (coming, issue 12): a `validate` command that
-//! checks another implementation against this reference engine, run by run.
-//! Until it exists, the bytes of a run and the golden snapshots in `golden/`
-//! are the baseline.
+//! **The engine contract** ([`validate`], `VALIDATION.md`): a `validate`
+//! command that checks another implementation against this reference
+//! engine; the bytes of a run and the golden snapshots in `golden/` are the
+//! baseline of the reference engine itself.
 //!
 //! **The documents** (in the repository root):
 //!
@@ -44,7 +44,7 @@
 //!   observables, the published targets. The code cites its sections as
 //!   "MODEL.md A5".
 //! - `READINGS.md`: every place where the papers' text allows more than one
-//!   implementation, with the named variant of each option (issue 14).
+//!   implementation, with the named variant of each option.
 //! - `EXPERIMENTS.md`: every measured number with its command, tier, seeds,
 //!   ensemble size and wall time.
 //!

@@ -1,5 +1,6 @@
-//! The reproduction report (issue 17): run every figure binary at one tier
-//! (finished runs are resumed from `--out`, so a rerun only re-analyses),
+//! The reproduction report (the claims of MODEL.md A10 and B6): run every
+//! figure binary at one tier (finished runs are resumed from `--out`, so a
+//! rerun only re-analyses),
 //! read each `DIR/<binary>/summary.json` and write `DIR/report/REPORT.md`,
 //! a self-contained `DIR/report/index.html` (no network, no JavaScript,
 //! relative links) and `DIR/report/report.json`.
@@ -89,7 +90,7 @@ pub struct Options {
 }
 
 /// The fewest seed sets over which the report grades a check as one
-/// ensemble: the 20 base seeds of issue 29's stability study.
+/// ensemble: the 20 base seeds of the acceptance tier's stability study.
 pub const MIN_SEED_SETS: usize = 20;
 
 /// Every `[[bin]]` name of Cargo.toml, in file order.
@@ -999,21 +1000,33 @@ pub const PUBLISH_CSV_BYTES: u64 = 100_000;
 /// `dest/<binary>/` with its summary.json, its PNGs reduced to at most
 /// [`PUBLISH_WIDTH`] pixels wide and its CSVs of at most
 /// [`PUBLISH_CSV_BYTES`]. The page links into `dest` and says what it
-/// left out. A figure folder already in `dest` is replaced.
+/// left out.
+///
+/// Nothing is deleted before the whole copy is written: every figure is
+/// first copied into a staging folder in `dest`, and only then does each
+/// replace the figure folder of an earlier copy. A `dest` equal to `out`,
+/// inside it or holding it is refused (the copy would overwrite its own
+/// sources), and so is a figure folder in `dest` that holds anything a
+/// published copy does not write (summary.json, PNG and CSV files).
 pub fn publish(out: &Path, report: &Report, dest: &Path) -> Result<()> {
     let io =
         |what: String| move |e: std::io::Error| Error::new(ErrorKind::Io, format!("{what}: {e}"));
+    check_publish_folder(out, dest)?;
     std::fs::create_dir_all(dest).map_err(io(format!("cannot create {}", dest.display())))?;
     let mut r = report.clone();
     r.figures_base = String::new();
     r.discrepancy_link = discrepancy_link(dest);
+    for f in &r.figures {
+        check_replaceable(&dest.join(&f.run.binary))?;
+    }
+    let staging = dest.join(".publish-staging");
+    if staging.exists() {
+        std::fs::remove_dir_all(&staging)
+            .map_err(io(format!("cannot clear {}", staging.display())))?;
+    }
     let mut left_out = vec![];
     for f in &mut r.figures {
-        let (src, dst) = (out.join(&f.run.binary), dest.join(&f.run.binary));
-        if dst.exists() {
-            std::fs::remove_dir_all(&dst)
-                .map_err(io(format!("cannot replace {}", dst.display())))?;
-        }
+        let (src, dst) = (out.join(&f.run.binary), staging.join(&f.run.binary));
         std::fs::create_dir_all(&dst).map_err(io(format!("cannot create {}", dst.display())))?;
         if f.summary_problem.is_none() && f.run.ok {
             let from = src.join("summary.json");
@@ -1039,6 +1052,15 @@ pub fn publish(out: &Path, report: &Report, dest: &Path) -> Result<()> {
         }
         f.csvs = kept;
     }
+    for f in &r.figures {
+        let (staged, dst) = (staging.join(&f.run.binary), dest.join(&f.run.binary));
+        if dst.exists() {
+            std::fs::remove_dir_all(&dst)
+                .map_err(io(format!("cannot replace {}", dst.display())))?;
+        }
+        std::fs::rename(&staged, &dst).map_err(io(format!("cannot move {}", staged.display())))?;
+    }
+    std::fs::remove_dir_all(&staging).map_err(io(format!("cannot clear {}", staging.display())))?;
     r.preface.push(format!(
         "This is a published copy: every figure's summary.json, its pictures reduced to at most {PUBLISH_WIDTH} px wide, and its CSVs of at most {} kB{}. The regenerate command writes them all at full size.",
         PUBLISH_CSV_BYTES / 1000,
@@ -1055,6 +1077,66 @@ pub fn publish(out: &Path, report: &Report, dest: &Path) -> Result<()> {
         );
     }
     write_pages(dest, &r)
+}
+
+/// `path` made absolute with its symbolic links resolved, also when it does
+/// not exist yet (its nearest existing ancestor is resolved).
+fn resolved(path: &Path) -> PathBuf {
+    let abs = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let mut rest = vec![];
+    let mut at = abs.as_path();
+    loop {
+        if let Ok(c) = at.canonicalize() {
+            return rest.iter().rev().fold(c, |p, name| p.join(name));
+        }
+        match (at.parent(), at.file_name()) {
+            (Some(parent), Some(name)) => {
+                rest.push(name.to_os_string());
+                at = parent;
+            }
+            _ => return abs,
+        }
+    }
+}
+
+/// Refuse a publish folder that is the report's `--out`, lies inside it or
+/// holds it: publishing there would replace the summaries it copies from.
+pub fn check_publish_folder(out: &Path, dest: &Path) -> Result<()> {
+    let (o, d) = (resolved(out), resolved(dest));
+    if d.starts_with(&o) || o.starts_with(&d) {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!(
+                "--publish {}: the copy must go to a folder apart from --out {} (neither inside the other); nothing was written",
+                dest.display(),
+                out.display()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A figure folder of an earlier published copy may be replaced: it holds
+/// only files a copy writes (summary.json, PNGs, CSVs), no folders.
+fn check_replaceable(dir: &Path) -> Result<()> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Ok(());
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let ours = e.file_type().is_ok_and(|t| t.is_file())
+            && (name == "summary.json" || name.ends_with(".png") || name.ends_with(".csv"));
+        if !ours {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!(
+                    "--publish: {} holds {name}, which a published copy does not write; refusing to replace it (move it or publish elsewhere); nothing was written",
+                    dir.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Copy PNG `from` to `to`, reduced to at most `width` pixels wide (its
@@ -2153,8 +2235,8 @@ mod tests {
         assert!(s.ends_with('…') && s.chars().count() <= 31, "{s}");
         assert_eq!(esc("<a & \"b\">"), "&lt;a &amp; &quot;b&quot;&gt;");
         assert_eq!(
-            slug("## Known discrepancies of the default reading (`ph94+gravity-first+wall-move`, sessions 2-3)"),
-            "known-discrepancies-of-the-default-reading-ph94gravity-firstwall-move-sessions-2-3"
+            slug("## Known discrepancies of the default reading (`ph94+gravity-first+wall-move`, Figs. 2-3)"),
+            "known-discrepancies-of-the-default-reading-ph94gravity-firstwall-move-figs-2-3"
         );
         assert_eq!(
             without_timing(&format!("a\nb {TIMING_MARK}\n<tr {HTML_TIMING_MARK}>\nc")),

@@ -423,15 +423,15 @@ pub struct Summary {
     pub params: serde_json::Value,
     /// Rule variant(s) used, as printed by the model.
     pub rules: String,
-    /// The engine that ran the model (`reference` or, for the pipe, `fast`;
-    /// issue 13), with its revision from revision 2 on (`Engine::label`).
+    /// The engine that ran the model (`reference` or, for the pipe, `fast`),
+    /// with its revision from revision 2 on (`Engine::label`).
     pub engine: String,
     /// Wall-clock time of this invocation of the figure (runs resumed from
     /// saved files cost nothing here; `site_updates` counts them).
     pub wall_seconds: f64,
     /// Total number of site updates (sites x steps) computed.
     pub site_updates: f64,
-    /// Named numbers (metric names fixed by the issues); finite only: a
+    /// Named numbers (metric names fixed per figure); finite only: a
     /// metric without a value is moved to `missing_metrics` when written.
     pub metrics: BTreeMap<String, f64>,
     /// Metrics that have no value (NaN or infinite, e.g. a mean over no

@@ -1,4 +1,4 @@
-//! Speed against accuracy (issue 13 item 4): for each figure of [`KEYS`],
+//! Speed against accuracy: for each figure of [`KEYS`],
 //! one key statistic's standard error against the CPU-seconds it cost, at
 //! each tier and with each engine, so a user can choose the cheapest run
 //! that gives the error bar they need.
@@ -57,7 +57,7 @@ pub struct Key {
     pub args: &'static [&'static str],
 }
 
-/// The figures of issue 13 item 4 and their key statistics.
+/// The figures measured and their key statistics.
 pub const KEYS: [Key; 5] = [
     Key {
         figure: "fig1",

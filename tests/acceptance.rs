@@ -1,4 +1,4 @@
-//! Acceptance at the published set-ups (`--tier acceptance`, issue 29): the
+//! Acceptance at the published set-ups (`--tier acceptance`, MODEL.md A10): the
 //! headline claims of PH94 Fig. 2, PH95 Figs. 5-7 and BB90 Figs. 2-3 run as a
 //! user runs them, the pipe on the fast engine and the hopper on its
 //! reference engine, with the estimators and margins of
@@ -124,11 +124,11 @@ fn ph95_fig6_at_the_published_set_up_alpha_undecided() {
 
 /// alpha and its bootstrap SE of `waves-fig6 --tier acceptance --seed 1`
 /// (docs/acceptance/waves-fig6/seed-1; the SE was the jackknife's 0.00689
-/// until session 24).
+/// until 2026-12-05).
 const FIG6_ALPHA_SEED1: (f64, f64) = (1.2991502192576334, 0.007068415082855593);
 
 /// alpha and its bootstrap SE of `fig2 --tier acceptance --seed 1` (the
-/// SE was the jackknife's 0.01078 until session 24).
+/// SE was the jackknife's 0.01078 until 2026-12-05).
 const ALPHA_SEED1: (f64, f64) = (1.2562365452968807, 0.010848018237458627);
 /// v and its bootstrap SE of `fig2 --tier acceptance --seed 1`.
 const V_SEED1: (f64, f64) = (0.39544677734375, 0.0006265051476578973);

@@ -1,4 +1,4 @@
-//! Bad input on the command line of every kind found in issue 16: each is
+//! Bad input on the command line of every kind tried: each is
 //! refused before any run, with a non-zero exit and a message naming the
 //! option (or value) and its allowed range; never a panic, an abort, a
 //! silent coercion or a NaN result. Each call returns in well under a
@@ -136,7 +136,7 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// Issue 34: every usage error of `validate` exits 2 (VALIDATION.md), a
+/// Every usage error of `validate` exits 2 (VALIDATION.md), a
 /// failing candidate 1; `--trials` has the lower bound at which the level-1
 /// test can decide (`conformance::MIN_TRIALS`), negative numbers name
 /// their option.
@@ -163,7 +163,7 @@ fn validate_usage_errors_exit_2_and_name_the_option() {
     }
 }
 
-/// Issue 34: an external candidate whose samples have the wrong shape is
+/// An external candidate whose samples have the wrong shape is
 /// named a contract error with its first bad line (never an index panic, nor
 /// graded as differing observables); a program that prints garbage is
 /// quoted.
@@ -216,7 +216,7 @@ fn validate_names_the_first_sample_of_the_wrong_shape() {
     }
 }
 
-/// Issue 34: `--cases` of the hopper figures rejects a case given twice.
+/// `--cases` of the hopper figures rejects a case given twice.
 #[test]
 fn hopper_cases_are_given_once() {
     for exe in [
@@ -231,7 +231,7 @@ fn hopper_cases_are_given_once() {
     }
 }
 
-/// Issue 34: an effectively empty pipe (fewer than one particle per bin on
+/// An effectively empty pipe (fewer than one particle per bin on
 /// average) or a pipe of one bin is refused, not measured as C = 0.
 #[test]
 fn effectively_empty_pipes_are_refused() {
@@ -254,7 +254,7 @@ fn effectively_empty_pipes_are_refused() {
     refused(explore, &["--length", "10"], &["L = 10", "[20, inf)"]);
 }
 
-/// Issue 34: `--steps` has the same cap in every binary, and sizes are
+/// `--steps` has the same cap in every binary, and sizes are
 /// multiplied without wrapping around.
 #[test]
 fn steps_share_one_cap_and_sizes_do_not_wrap() {
@@ -277,10 +277,10 @@ fn steps_share_one_cap_and_sizes_do_not_wrap() {
             "18446744073709551615 * 220 = 4058283696216101355300",
         ],
     );
-    assert_eq!(e, 1);
+    assert_eq!(e, 2, "a size out of range is a usage error");
 }
 
-/// Issue 34: `report` and `speed-accuracy` range-check their numbers and
+/// `report` and `speed-accuracy` range-check their numbers and
 /// name the option of a negative one; `report --only` offers figures only.
 #[test]
 fn report_and_speed_accuracy_check_their_numbers() {
@@ -297,7 +297,7 @@ fn report_and_speed_accuracy_check_their_numbers() {
     refused(speed, &["--threads", "-1"], &["--threads", "1..=1024"]);
 }
 
-/// Issue 34: `speed-accuracy --from` names a missing folder and a damaged
+/// `speed-accuracy --from` names a missing folder and a damaged
 /// summary.json before it runs anything.
 #[test]
 fn speed_accuracy_from_names_missing_and_damaged_summaries() {
@@ -333,7 +333,7 @@ fn speed_accuracy_from_names_missing_and_damaged_summaries() {
     refused(speed, &a, &[summary.to_str().unwrap(), "is not JSON"]);
 }
 
-/// Issue 34: an --out whose summary.json is a folder is named, and no
+/// An --out whose summary.json is a folder is named, and no
 /// temporary file is left behind.
 #[test]
 fn a_folder_in_the_way_of_summary_json_is_named() {
@@ -357,7 +357,7 @@ fn a_folder_in_the_way_of_summary_json_is_named() {
     assert!(left.is_empty(), "temporary files left: {left:?}");
 }
 
-/// Issue 34: `merge` checks every run file's key (seed, tier, parameters),
+/// `merge` checks every run file's key (seed, tier, parameters),
 /// index and seed against the folder it goes into, names what differs and
 /// copies nothing; an empty shard folder and a shard that is a file are
 /// named as such.
@@ -437,4 +437,145 @@ fn merge_rejects_foreign_runs_and_empty_or_file_shards() {
         &[&file],
         &[file.to_str().unwrap(), "is a file, not a folder"],
     );
+}
+
+/// A copy of the committed report's `hopper-fig3` folder in a fresh `R/`.
+fn report_folder_with_hopper_fig3(name: &str) -> PathBuf {
+    let r = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&r);
+    let (from, to) = (
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/report/hopper-fig3"),
+        r.join("hopper-fig3"),
+    );
+    std::fs::create_dir_all(&to).unwrap();
+    for e in std::fs::read_dir(&from).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+    r
+}
+
+/// `report --publish` into its own `--out` (or inside it) is refused before
+/// anything is written: it used to delete the figure's folder, summary.json
+/// included, and then fail to copy it.
+#[test]
+fn report_refuses_to_publish_into_its_own_out_and_deletes_nothing() {
+    let report = env!("CARGO_BIN_EXE_report");
+    let r = report_folder_with_hopper_fig3("publish-into-out");
+    let files = |d: &PathBuf| std::fs::read_dir(d).unwrap().count();
+    let before = files(&r.join("hopper-fig3"));
+    for publish in [r.clone(), r.join("copy"), r.join("hopper-fig3")] {
+        let o = Command::new(report)
+            .args([
+                "--no-run",
+                "--only",
+                "hopper-fig3",
+                "--tier",
+                "acceptance",
+                "--out",
+            ])
+            .arg(&r)
+            .arg("--publish")
+            .arg(&publish)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{publish:?}: {err}");
+        assert!(
+            err.contains("--publish") && err.contains("apart from --out"),
+            "{err}"
+        );
+        assert_eq!(
+            files(&r.join("hopper-fig3")),
+            before,
+            "{publish:?} deleted files"
+        );
+        assert!(r.join("hopper-fig3/summary.json").is_file());
+        assert!(!r.join("copy").exists());
+    }
+}
+
+/// A publish folder whose figure folder holds a file a published copy does
+/// not write is refused, and the file is kept; a clean one is published.
+#[test]
+fn report_publish_keeps_what_it_did_not_write() {
+    let report = env!("CARGO_BIN_EXE_report");
+    let r = report_folder_with_hopper_fig3("publish-foreign-file");
+    let dest = r.with_file_name("publish-foreign-file-dest");
+    let _ = std::fs::remove_dir_all(&dest);
+    std::fs::create_dir_all(dest.join("hopper-fig3")).unwrap();
+    std::fs::write(dest.join("hopper-fig3/notes.txt"), "mine").unwrap();
+    let publish = |d: &PathBuf| {
+        Command::new(report)
+            .args([
+                "--no-run",
+                "--only",
+                "hopper-fig3",
+                "--tier",
+                "acceptance",
+                "--out",
+            ])
+            .arg(&r)
+            .arg("--publish")
+            .arg(d)
+            .output()
+            .unwrap()
+    };
+    let o = publish(&dest);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("notes.txt"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(dest.join("hopper-fig3/notes.txt")).unwrap(),
+        "mine"
+    );
+    std::fs::remove_file(dest.join("hopper-fig3/notes.txt")).unwrap();
+    let o = publish(&dest);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(dest.join("hopper-fig3/summary.json").is_file());
+    assert!(dest.join("index.html").is_file());
+    assert!(!dest.join(".publish-staging").exists());
+}
+
+/// Exit statuses follow the kind of error, not where it is caught: a value
+/// out of range or an unknown name exits 2 like clap's own usage errors,
+/// and `--help` exits 0, in every binary.
+#[test]
+fn usage_errors_exit_2_and_help_exits_0_everywhere() {
+    let fig2 = env!("CARGO_BIN_EXE_fig2");
+    let fig3 = env!("CARGO_BIN_EXE_waves-fig3");
+    for (exe, args, want) in [
+        (fig3, &["--p", "2"][..], "p = 2"),
+        (fig3, &["--p", "NaN"][..], "p = NaN"),
+        (fig2, &["--rules", "x"][..], "x"),
+        (fig2, &["--engine", "gpu"][..], "gpu"),
+        (
+            env!("CARGO_BIN_EXE_report"),
+            &["--only", "x"][..],
+            "unknown figure",
+        ),
+        (
+            env!("CARGO_BIN_EXE_hopper-fig2"),
+            &["--cases", "nope"][..],
+            "nope",
+        ),
+        (
+            env!("CARGO_BIN_EXE_validate-example"),
+            &["walk"][..],
+            "usage",
+        ),
+    ] {
+        assert_eq!(refused(exe, args, &[want]), 2, "{exe} {args:?}");
+    }
+    for exe in [
+        env!("CARGO_BIN_EXE_validate-example"),
+        env!("CARGO_BIN_EXE_validate-detection"),
+        fig2,
+        env!("CARGO_BIN_EXE_validate"),
+        env!("CARGO_BIN_EXE_report"),
+    ] {
+        let o = Command::new(exe).arg("--help").output().unwrap();
+        assert_eq!(o.status.code(), Some(0), "{exe} --help");
+        assert!(String::from_utf8_lossy(&o.stdout).contains("usage") || !o.stdout.is_empty());
+    }
 }

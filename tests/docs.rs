@@ -1,4 +1,4 @@
-//! The repository carries its own specification (issue 18): every section
+//! The repository carries its own specification: every section
 //! of MODEL.md that the code and the documents cite ("MODEL.md A5",
 //! "MODEL.md B3-B5", "MODEL.md Part B") has a heading in MODEL.md, every
 //! document the README names is in the repository, and no file sends the

@@ -1,4 +1,4 @@
-//! The `--engine` option of the pipe figures (issue 13): every pipe figure
+//! The `--engine` option of the pipe figures: every pipe figure
 //! runs with the fast engine and records it in summary.json, an unknown
 //! engine is a typed error naming the known ones, and PH94 Fig. 2 run by the
 //! fast engine decides its claims as the reference does (the fast engine is

@@ -1,4 +1,4 @@
-//! Tests of the ensemble runner (issue 6): resume after an interruption gives
+//! Tests of the ensemble runner: resume after an interruption gives
 //! byte-identical results, merged shards equal the unsharded ensemble, and
 //! results do not depend on the thread count. Every run is a small seeded
 //! pipe run (L = 40, W = 5, 300 steps), so the tests are exact, not

@@ -1,4 +1,4 @@
-//! Every parameter at its extremes (issue 16): what the rules imply there,
+//! Every parameter at its extremes (MODEL.md A8): what the rules imply there,
 //! derived from MODEL.md A3-A7 and the code's tables, asserted exactly on
 //! small lattices (each test well under a second at the test profile, except
 //! where stated).
@@ -616,7 +616,7 @@ mod golden {
     }
 }
 
-/// `--runs` at its lower extreme (issue 34): one run has means but no
+/// `--runs` at its lower extreme: one run has means but no
 /// standard errors; each `_err` is listed under `missing_metrics` with the
 /// reason, never written as 0.0.
 #[test]

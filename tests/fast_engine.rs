@@ -1,4 +1,4 @@
-//! The fast, bit-sliced engine (`granular_automata::pipe::fast`, issue 13)
+//! The fast, bit-sliced engine (`granular_automata::pipe::fast`)
 //! against the reference engine `Pipe`: site by site wherever a step has no
 //! random choice, conservation and bookkeeping (MODEL.md A7), the same
 //! errors, and the observables of one state. Its random steps are compared
@@ -355,9 +355,9 @@ fn inject_down_fills_only_the_channel_straight_down() {
     assert_eq!(n(after_one_step(p, "default", &[])), 15);
 }
 
-/// The default includes `inject-late` (issue 14, session 9), which acts only
+/// The default includes `inject-late` (MODEL.md A11), which acts only
 /// in the open pipe: in the periodic pipe the default runs step for step as
-/// `ph94+gravity-first+wall-move`, the default of sessions 2-8, in both
+/// `ph94+gravity-first+wall-move`, the earlier default, in both
 /// engines, so every periodic figure (among them the blind Figs. 9 and 10)
 /// is unchanged by the switch. In the open pipe the two differ.
 #[test]
@@ -474,7 +474,7 @@ fn lane_collide_deflects_a_down_mover_resting_on_another() {
 }
 
 /// What `lane-collide` does to the gas (EXPERIMENTS.md "Extensions beyond
-/// the text", session 18), at PH94 Fig. 2's set-up (L = 220, W = 11,
+/// the text"), at PH94 Fig. 2's set-up (L = 220, W = 11,
 /// p = g = b = 0.5, rho = 1) after 20000 steps: the default puts more than 95 % of
 /// the movers in channel 4 (one lane); with the extension fewer than half
 /// are there. A fast engine that ignored the rule would fail this.
@@ -804,7 +804,7 @@ fn every_reading_is_supported() {
 }
 
 /// Site updates per second of both engines at W = 11, rho = 1, p = g = b =
-/// 0.5, default rules, one thread (issue 13: at least 4 times the
+/// 0.5, default rules, one thread (the target: at least 4 times the
 /// reference). `cargo test --release --test fast_engine -- --ignored --nocapture`
 #[test]
 #[ignore]

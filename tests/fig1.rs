@@ -1,4 +1,4 @@
-//! Acceptance test of PH94 Fig. 1 (issue 2, test 7): runs the `fig1` binary at
+//! Acceptance test of PH94 Fig. 1 (MODEL.md A10): runs the `fig1` binary at
 //! the quick tier (the paper's L = 2200 and 40000 steps, 4 seeds) and reads its
 //! summary.json.
 //!

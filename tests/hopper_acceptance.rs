@@ -1,4 +1,4 @@
-//! Acceptance checks of the hopper (issue 5, MODEL.md B6) at the quick tier,
+//! Acceptance checks of the hopper (MODEL.md B6) at the quick tier,
 //! each shown to fail on a wrong model. All runs use the quick hopper
 //! (100 x 75 sites, outlet 7, channel 4, filled to 70%: ~2650 grains) and
 //! the same analysis code as `hopper-fig2` and `hopper-fig3`.

@@ -1,4 +1,4 @@
-//! The BB90 claims of issue 15 (HOPPER_READINGS.md Part 1) at the quick tier,
+//! The BB90 claims (MODEL.md B6, HOPPER_READINGS.md Part 1) at the quick tier,
 //! graded by the one rule of `granular_automata::analysis::grading` with the
 //! thresholds `hopper-fig2`/`hopper-fig3` use: each claim the chosen
 //! reading reproduces passes for it and is contradicted ("not reproduced",
@@ -46,7 +46,7 @@ const SEED: u64 = 1;
 /// Runs per ensemble (the quick tier's 3).
 const RUNS: usize = 3;
 
-/// The reading chosen in issue 15 (HOPPER_READINGS.md Part 3), the library
+/// The reading chosen in HOPPER_READINGS.md Part 3, the library
 /// default since EXPERIMENTS.md "The along-bond reading" (same-orientation before,
 /// EXPERIMENTS.md "The hopper's default reading switches to same-orientation").
 const CHOSEN: Case = Case::BETA1_BOND;
@@ -376,7 +376,7 @@ fn rate_like_orientation_off_and_slow_dilation_memory() {
 }
 
 /// Known discrepancies of the chosen reading at the quick tier, pinned to
-/// the measurement of `hopper-fig2`/`hopper-fig3 --tier quick` (issue 15):
+/// the measurement of `hopper-fig2`/`hopper-fig3 --tier quick`:
 /// the container-scale order and the vertical core are undecided there
 /// (the vertical core is contradicted at the standard and paper tiers,
 /// 0.39-0.40), and the outflow alternates with period 2 (lag-1

@@ -1,4 +1,4 @@
-//! The imports of the library point one way (issue 32): no module imports
+//! The imports of the library point one way: no module imports
 //! a module that imports it back, directly or around a circle, and every
 //! top-level module imports only the layers below it (docs/library.md
 //! "Layers"); and every figure binary stays a short script.
@@ -320,7 +320,7 @@ fn the_parser_sees_a_circle_and_an_upward_import() {
 
 #[test]
 fn every_figure_binary_is_a_short_script() {
-    // issue 32: a binary holds its options, set-up, calls, checks and
+    // a binary holds its options, set-up, calls, checks and
     // summary; procedures live in src/ (docs/library.md "Layers")
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("reproduce");
     let mut long = Vec::new();

@@ -1,4 +1,4 @@
-//! Exact properties of the pipe engine (issue 2, tests 2-6): conservation at
+//! Exact properties of the pipe engine (MODEL.md A1-A8): conservation at
 //! every corner of parameter space, open-pipe bookkeeping, determinism, a
 //! golden snapshot, and bad input.
 
@@ -30,7 +30,7 @@ fn particle_number_is_conserved_at_every_corner() {
         for &p in &[0.0, 1.0] {
             for &g in &[0.0, 1.0] {
                 for &b in &[0.0, 1.0] {
-                    // rho in (0, 6): 0 and 6 are rejected (issue 16)
+                    // rho in (0, 6): 0 and 6 are rejected (MODEL.md A8)
                     for &rho in &[0.01, 1.0, 3.0, 5.99] {
                         for &w in &[1usize, 2, 11] {
                             cases.push((rules, p, g, b, rho, w));
@@ -120,7 +120,7 @@ fn particle_number_is_conserved_at_every_corner() {
 }
 
 /// Runs of [`particle_number_is_conserved_at_every_corner`] that stop with
-/// RestExceedsSites (pinned: 550 of 9216, measured on this code, issue 16).
+/// RestExceedsSites (pinned: 550 of 9216, measured on this code).
 const STOPPED_REST_EXCEEDS: usize = 550;
 /// Runs of it that stop with RelocationStuck (pinned).
 const STOPPED_RELOCATION_STUCK: usize = 0;
@@ -219,7 +219,7 @@ fn golden_bin_series_of_a_small_run() {
 
 #[test]
 fn golden_bin_series_of_the_default_reading() {
-    // The project's default reading (issue 4), kept in its own snapshot so
+    // The project's default reading (MODEL.md A11), kept in its own snapshot so
     // that a change of the default shows as a change of this file only.
     golden("pipe_bin_series_default", &["default"]);
 }

@@ -1,13 +1,13 @@
-//! Smoke test of the reproduction matrix (issue 4, 28 claims since issue
-//! 14, 39 since issue 31): one reading, one run per set-up at the quick tier with the fast
-//! engine (validated against the reference, issue 13), every group but the
+//! Smoke test of the reproduction matrix (MODEL.md A11, 39 claims): one
+//! reading, one run per set-up at the quick tier with the fast engine
+//! (validated against the reference), every group but the
 //! open pipe's (`--groups`); the outputs exist, every claim of those groups
 //! is graded and the others are listed as not run, one run decides nothing (the one grading rule
 //! needs 3), and the cached result is reused on a second call (resume: the
 //! cache file is not rewritten and the matrix is the same; no wall-clock
 //! comparison, which can fail on shared cores).
 //!
-//! And every cheap new claim can fail (issue 14): a named wrong model gets
+//! And every cheap new claim can fail: a named wrong model gets
 //! a different verdict from the default reading (`a_wrong_model_...`).
 
 use std::path::PathBuf;
@@ -89,11 +89,11 @@ fn matrix_grades_every_claim_and_resumes_from_its_cache() {
     );
 }
 
-/// Every cheap new claim of issue 14 (PH95 Figs. 3-5) can fail: the
+/// Every cheap new claim (PH95 Figs. 3-5) can fail: the
 /// default reading and a named wrong model, the same set-ups with p = 0
 /// (no dissipation: no rest particles ever form from the random start, no
 /// waves), graded by the matrix's own functions at the quick tier with 16
-/// runs per set-up (seed 1, fast engine). Measured (session 7): default /
+/// runs per set-up (seed 1, fast engine). Measured 2026-12-02: default /
 /// p = 0: contrast_rises no (-2.28 +- 0.16) / ?; contrast_saturates yes / ?;
 /// energy_rises yes (110 +- 5) / no (0 exactly); energy_saturates ? / ?
 /// (NaN: no loss to saturate); steep_front ? (-0.02 +- 0.09) / ?;
@@ -102,7 +102,7 @@ fn matrix_grades_every_claim_and_resumes_from_its_cache() {
 /// (about 13 CPU-s of site updates). The open-pipe claims
 /// (PH95 Figs. 11-12) and the Fig. 8 spectra are not run here: minutes of
 /// CPU (clogging runs' relocation walks; 7 spectra of 705360 steps); their
-/// verdicts are in EXPERIMENTS.md ("Issue 14: the extended matrix").
+/// verdicts are in EXPERIMENTS.md ("the extended matrix").
 #[test]
 fn a_wrong_model_gets_another_verdict_on_the_cheap_new_claims() {
     use granular_automata::drivers::claims::{Group, Verdict};
@@ -133,7 +133,7 @@ fn a_wrong_model_gets_another_verdict_on_the_cheap_new_claims() {
         assert_ne!(v(&p0, id), Reproduced, "{id}");
     }
     assert_eq!(v(&p0, "energy_rises"), NotReproduced);
-    // failed by the default (pinned; issue 14 lists both as disagreements):
+    // failed by the default (pinned; EXPERIMENTS.md lists both as disagreements):
     // C falls from its random start; v = 0.23 against 0.36 +- 0.05
     for id in ["contrast_rises", "v_fig5"] {
         assert_eq!(v(&default, id), NotReproduced, "{id}");
@@ -143,9 +143,9 @@ fn a_wrong_model_gets_another_verdict_on_the_cheap_new_claims() {
     // size (16 runs); no cheap test decides them (EXPERIMENTS.md)
 }
 
-/// PH95 III F-H (Figs. 9-10, issue 31) for the default reading at the quick
+/// PH95 III F-H (Figs. 9-10) for the default reading at the quick
 /// tier (3 runs per point, seed 1, fast engine): the verdicts recorded in
-/// EXPERIMENTS.md "Issue 31: PH95 III F-H in the matrix" (docs/
+/// EXPERIMENTS.md "PH95 III F-H in the matrix" (docs/
 /// matrix-dependence/quick). And a named wrong model, one whose walls ignore
 /// the swept b (b = 0.5 at every point), loses the one claim the default
 /// reproduces, v falling with b: the check can fail.

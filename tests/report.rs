@@ -1,4 +1,4 @@
-//! Acceptance tests of the `report` binary (issue 17) on the two cheapest
+//! Acceptance tests of the `report` binary on the two cheapest
 //! figures (the hopper's, a few seconds each at the quick tier on one thread).
 
 mod common;
@@ -174,7 +174,7 @@ fn a_failing_figure_is_listed_and_does_not_stop_the_others() {
 fn unknown_figures_are_a_typed_error_up_front() {
     let out = fresh("unknown");
     let r = report(&out, &["--only", "hopper-fig2,fig99"]);
-    assert_eq!(r.status.code(), Some(1));
+    assert_eq!(r.status.code(), Some(2));
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(
         err.contains("fig99") && err.contains("hopper-fig2"),
@@ -187,7 +187,7 @@ fn unknown_figures_are_a_typed_error_up_front() {
 fn an_unknown_engine_is_a_typed_error_up_front() {
     let out = fresh("engine");
     let r = report(&out, &["--only", "hopper-fig2", "--engine", "gpu"]);
-    assert_eq!(r.status.code(), Some(1));
+    assert_eq!(r.status.code(), Some(2));
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(err.contains("gpu") && err.contains("fast"), "{err}");
     assert!(!out.join("hopper-fig2").exists(), "nothing ran");
@@ -225,7 +225,7 @@ fn fig2_no_run(out: &Path, extra: &[&str]) -> Output {
 
 /// `--no-run` re-renders from the summaries in `--out` without running a
 /// figure, and `--seed-sets` grades the published checks over every
-/// committed seed set of a figure that has at least 20 (issue 29): here a
+/// committed seed set of a figure that has at least 20: here a
 /// fig2 alpha undecided in its own seed set and decided over 20. The seed
 /// sets are graded only when the run's own seed set equals its committed
 /// twin (same seeds) result for result: a run that differs from it, or whose

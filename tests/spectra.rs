@@ -1,4 +1,4 @@
-//! Acceptance tests of the density spectra (issue 3): PH94 Fig. 2 and PH95
+//! Acceptance tests of the density spectra (MODEL.md A9-A10): PH94 Fig. 2 and PH95
 //! Figs. 6-7, run through the figure binaries and read from summary.json.
 //!
 //! Tier: quick (m = 4096, 4 runs). Grading: the one rule of
@@ -68,7 +68,7 @@ fn fig2_alpha_and_peak_velocity_agree_with_ph94_and_wrong_readings_fail() {
 }
 
 /// PH94 Fig. 2's alpha at 16 paper runs (about 4 minutes on 2 cores; run
-/// with `--ignored`). Measured in session 5: 1.290 +- 0.045, k =
+/// with `--ignored`). Measured 2026-12-01: 1.290 +- 0.045, k =
 /// t(0.975, 15) = 2.13, still undecided (the per-run fits scatter with sd
 /// 0.18, so more runs shrink SE slowly; EXPERIMENTS.md "The one grading
 /// rule"). Asserted: not contradicted, estimate within the margin.

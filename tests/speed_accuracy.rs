@@ -1,4 +1,4 @@
-//! The `speed-accuracy` binary (issue 13 item 4) on its cheapest figures:
+//! The `speed-accuracy` binary on its cheapest figures:
 //! it runs each (figure, tier, engine) once, reads `cpu_seconds` and the
 //! key statistic from the summaries, resumes from them, and rejects bad
 //! input with a message naming the value and the allowed values.

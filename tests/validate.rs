@@ -1,4 +1,4 @@
-//! Acceptance tests of `validate` (issue 12, VALIDATION.md) at the quick
+//! Acceptance tests of `validate` (VALIDATION.md) at the quick
 //! tier: the reference passes both levels of the pipe and of the hopper,
 //! every pipe mutant of the catalogue fails pipe level 1, every hopper mutant
 //! fails hopper level 1, the external example passes through the
@@ -80,7 +80,7 @@ fn the_reference_passes_both_levels() {
     assert!(dir.join("validate/report.md").exists());
 }
 
-/// The fast engine (issue 13) passes the pipe's level 1 (exact one-step
+/// The fast engine passes the pipe's level 1 (exact one-step
 /// tables) and level 2 (the scenes) at the quick tier: about 20 s.
 #[test]
 fn the_fast_engine_passes_both_pipe_levels() {
@@ -90,7 +90,7 @@ fn the_fast_engine_passes_both_pipe_levels() {
     assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
 }
 
-/// The three readings of issue 14 step 1 in one (`rest-ahead`,
+/// The three readings of READINGS.md in one (`rest-ahead`,
 /// `gravity-last`, `fhp-rest`, with `wall-move`): the fast engine passes
 /// level 1 against the reference's exact tables (about 12 s on one core).
 /// Level 1 probes lone sites, so `rest-ahead` turns a mover there only after
@@ -117,7 +117,7 @@ fn the_fast_engine_passes_level_1_for_the_new_readings() {
 /// rest particle falls in the same step, so particles travel further than
 /// with the default; the probe blocks must still isolate the probe sites.
 /// (With blocks 5 rows apart the reference failed its own table here: 1088
-/// differences in 7445 tests, session 6.)
+/// differences in 7445 tests, measured 2026-12-01.)
 #[test]
 fn the_reference_passes_level_1_when_collisions_come_before_gravity() {
     let args = quick_args("reference", "1", &["--model", "pipe", "--rules", "ph94"]);
@@ -183,7 +183,7 @@ fn every_mutant_fails_level_1() {
     }
 }
 
-/// The parametric mutants (issue 33 item 1): `mutant:p*1.1` is the
+/// The parametric mutants: `mutant:p*1.1` is the
 /// catalogue's `p+10%` (the same differences at level 1), a gross R1 split
 /// (75/25) fails level 1, scaling by 1 changes nothing, and a bad knob or
 /// factor is a typed error naming the allowed values.
@@ -244,7 +244,7 @@ fn the_external_example_passes_through_the_contract() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     let r = report(&dir);
     assert_eq!(r["pass"], true);
-    // the hopper through its contract (issue 33 item 5): both levels
+    // the hopper through its contract: both levels
     assert_eq!(r["hopper"]["provided"], true, "{r}");
     assert_eq!(r["hopper"]["level1"]["pass"], true, "{r}");
     assert!(r["hopper"]["level1"]["energies"].as_u64().unwrap() > 10_000);
@@ -284,7 +284,7 @@ fn a_wrong_external_hopper_fails_through_the_contract() {
 /// another. A candidate deaf to it (the external example behind a `sed`
 /// that deletes the name from every plan) passes every lone-site probe of
 /// level 1; it fails level 1's memory probe with two particles one above
-/// the other (issue 33 item 4; before that probe it passed level 1), and
+/// the other (before that probe existed it passed level 1), and
 /// level 2.
 #[test]
 fn a_candidate_deaf_to_lane_collide_fails_the_memory_probe_and_level_2() {
@@ -341,7 +341,7 @@ fn exact_table_matches_hand_calculation() {
     assert_eq!(d["|0:1:0"], 1.0, "{d:?}");
 }
 
-/// Issue 16 item 3: with fewer than 3 runs a figure's graded checks are
+/// With fewer than 3 runs a figure's graded checks are
 /// undecided, never passed, and their notes say why (before the one
 /// grading rule, `fig2 --runs 1` reported every error as 0 and passed).
 #[test]
@@ -368,7 +368,7 @@ fn fewer_than_three_runs_decide_nothing_and_say_why() {
 }
 
 /// A candidate that stalls is stopped at the time limit and named with its
-/// plan (issue 33 item 6), not waited for: `sleep 100` stands for a
+/// plan, not waited for: `sleep 100` stands for a
 /// deadlocked engine.
 #[test]
 fn a_stalled_candidate_is_stopped_and_named() {
@@ -403,7 +403,7 @@ fn a_stalled_candidate_is_stopped_and_named() {
     common::fails_with(env!("CARGO_BIN_EXE_validate"), args, "--run-timeout");
 }
 
-/// The correlated-draw mutants (issue 33 item 4) have every one-site
+/// The correlated-draw mutants have every one-site
 /// distribution exact: the lone-site probes of level 1 see nothing, and
 /// level 1's memory probes (VALIDATION.md) catch both.
 #[test]
@@ -420,7 +420,7 @@ fn correlated_draws_pass_the_lone_sites_and_fail_the_memory_probes() {
     }
 }
 
-/// `--detect E` (issue 33 item 3) prints its choice and cost before it
+/// `--detect E` prints its choice and cost before it
 /// starts, and its trials catch the hardest knob of level 1 well above E:
 /// R3's p alone 20 % high at --detect 10 %.
 #[test]
@@ -446,4 +446,80 @@ fn detect_picks_trials_that_catch_the_target_error() {
         "{text}"
     );
     assert_eq!(report(&dir)["level1"]["trials"], 1807);
+}
+
+/// `--repeat` seeds never wrap into no validation: the last seed is
+/// u64::MAX at most (a range error past it), and the top seed itself runs.
+#[test]
+fn repeat_seeds_do_not_wrap_into_nothing() {
+    let dir = out("repeat-wrap");
+    let quick = [
+        "--candidate",
+        "reference",
+        "--level",
+        "1",
+        "--trials",
+        "100",
+    ];
+    for (seed, n) in [("18446744073709551615", "2"), ("18446744073709551614", "3")] {
+        let o = run_validate(
+            &[&quick[..], &["--seed", seed, "--repeat", n]].concat(),
+            &dir,
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("--seed") && err.contains("--repeat"), "{err}");
+    }
+    let top = ["--seed", "18446744073709551615", "--repeat", "1"];
+    let o = run_validate(&[&quick[..], &top].concat(), &dir);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{text}");
+    assert!(
+        text.contains("failed 0 of 1 validations (level 1: 0, hopper level 1: 0)"),
+        "{text}"
+    );
+}
+
+/// A `--repeat` CSV edited by hand is checked row by row before it is
+/// resumed: a duplicate seed, a malformed row, a row cut mid-line and a
+/// level-2 count in a level-1 run are each refused, naming the line.
+#[test]
+fn repeat_refuses_an_edited_csv() {
+    let dir = out("repeat-edited");
+    let args = [
+        "--candidate",
+        "reference",
+        "--level",
+        "1",
+        "--trials",
+        "100",
+        "--repeat",
+        "2",
+    ];
+    assert!(run_validate(&args, &dir).status.success());
+    let csv = dir.join("validate/repeat-reference.csv");
+    let good = std::fs::read_to_string(&csv).unwrap();
+    let row1 = good.lines().nth(2).unwrap().to_string();
+    for (edit, want) in [
+        (format!("{good}{row1}\n"), "appears twice"),
+        (good.replace(&row1, "2,maybe,true,xx"), "fields"),
+        (
+            good.replace(&row1, "1,maybe,true,0,,,true,0,,,0.1"),
+            "pass \"maybe\"",
+        ),
+        (
+            good.replace(&row1, "1,true,true,0,true,0,true,0,,,0.1"),
+            "does not validate",
+        ),
+        (good.trim_end().to_string(), "cut short"),
+    ] {
+        std::fs::write(&csv, &edit).unwrap();
+        let o = run_validate(&args, &dir);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{edit}: {err}");
+        assert!(
+            err.contains(want) && err.contains("repeat-reference.csv"),
+            "{want}: {err}"
+        );
+    }
 }

@@ -1,4 +1,4 @@
-//! Acceptance test of PH95 Fig. 2 (issue 6): the `waves-fig2` binary at the
+//! Acceptance test of PH95 Fig. 2 (MODEL.md A10): the `waves-fig2` binary at the
 //! quick tier (the paper's L = 2200 and 40000 steps, 2 runs, seed 1).
 //!
 //! Waves: s_low - 2 SE > 2 over the late half (the fig1 statistic, an

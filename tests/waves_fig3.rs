@@ -1,4 +1,4 @@
-//! PH95 Fig. 3 (issue 6): the energy identity E(0) - E(t) = rest particles
+//! PH95 Fig. 3 (MODEL.md A10): the energy identity E(0) - E(t) = rest particles
 //! (exact, every step), and an acceptance test of the `waves-fig3` binary at
 //! the quick tier shortened to 4000 steps and 16 runs (about a second).
 

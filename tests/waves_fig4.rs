@@ -1,4 +1,4 @@
-//! Acceptance test of PH95 Fig. 4 (issue 6): the `waves-fig4` binary at the
+//! Acceptance test of PH95 Fig. 4 (MODEL.md A10): the `waves-fig4` binary at the
 //! quick tier (512 fields per run, warm-up 10000 steps) for L = 1024 only and
 //! 8 runs (about 10 s).
 //!
@@ -9,7 +9,7 @@
 //! k SE < null (k = t(0.975, 7) = 2.36 for 8 runs; the seeds are fixed, so
 //! the test is deterministic). Default reading at p = 0.1: a wave,
 //! not flat. A steep downstream front (asymmetry > 0) is not contradicted for
-//! the `ph94` reading (the default until session 2; it was decided under the
+//! the `ph94` reading (the first default; it was decided under the
 //! old 2 SE rule, not under the one rule's k = 2.36 at 8 runs); the default's
 //! asymmetry is undecided at this tier (0.10 +- 0.17) and pinned.
 //! Wave-free readings: p = 0 is flat and has no wave; `any-mover` (no bands,

@@ -1,4 +1,4 @@
-//! Acceptance test of PH95 Fig. 5 (issue 6): the `waves-fig5` binary at the
+//! Acceptance test of PH95 Fig. 5 (MODEL.md A10): the `waves-fig5` binary at the
 //! quick tier (L = 512, 8 runs of 1024 fields every 40 steps after 10000
 //! steps; about 10 s).
 //!
@@ -12,10 +12,10 @@
 //! L j / (T0 2m)) is contradicted by the same rule. Smoke band for the speed: 0.15-0.35 rows per step
 //! (the MODEL.md A11 prototype measured ~0.25 for `ph94`).
 //!
-//! With the default reading of session 2 (`ph94+gravity-first+wall-move`)
+//! With the default reading (`ph94+gravity-first+wall-move` in the periodic pipe)
 //! no run forms bands at L = 512 at this tier (s_low 0.68 +- 0.09, 8 runs),
 //! so the check over the runs with bands is undefined there: it is asserted
-//! on the `ph94` reading (the default until session 2), which forms bands in
+//! on the `ph94` reading (the first default), which forms bands in
 //! about half of its runs.
 
 mod common;
@@ -60,7 +60,7 @@ fn fig5_quick_real_space_and_spectral_speeds_agree() {
     let s = run("default", &[]);
     let m = |k: &str| s["metrics"][k].as_f64().unwrap();
     // no run forms bands here (module docs): the means over such runs have
-    // no value, so they are listed with the reason, never NaN/null (issue 16)
+    // no value, so they are listed with the reason, never NaN/null
     for (k, v) in s["metrics"].as_object().unwrap() {
         assert!(v.is_f64(), "metric {k} = {v} has no value");
     }

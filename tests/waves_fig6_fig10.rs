@@ -1,10 +1,10 @@
 //! Acceptance tests of `waves-fig6` (PH95 Fig. 6, p = 0.8) and `waves-fig10`
 //! (PH95 Fig. 10, alpha against b and g, v against b) at the quick tier,
-//! seed 1, read from summary.json (issue 16: these binaries had no test).
+//! seed 1, read from summary.json.
 //! Cost: about 20 s and 55 s of two cores. What is asserted: the output
 //! contract (files, fields, every metric finite or listed as missing with a
 //! reason), alpha of Fig. 6 pinned at its quick-tier value (1.357 +- 0.033
-//! over 4 runs, measured in issue 16; EXPERIMENTS.md's older row of 1.145 is
+//! over 4 runs, measured 2026-12-01; EXPERIMENTS.md's older row of 1.145 is
 //! from an earlier reading) and the physics of Fig. 10 that the rules
 //! imply: rough walls slow the waves (v falls from b = 0.25 to b = 1 at both
 //! gravities).
@@ -44,7 +44,7 @@ fn fig6_quick_reports_alpha_and_its_check() {
     assert_eq!(s["paper"], "PH95 Fig. 6");
     assert_eq!(s["tier"], "quick");
     metrics_are_finite(&s);
-    // pinned: 1.357 +- 0.033 (4 runs, seed 1, issue 16); the window is 4 of
+    // pinned: 1.357 +- 0.033 (4 runs, seed 1); the window is 4 of
     // those standard errors either side (the seeds are fixed, so a change
     // means the model or the estimator changed)
     let a = metric(&s, "alpha");

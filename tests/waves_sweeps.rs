@@ -2,13 +2,13 @@
 //! read from summary.json. The published values are withheld (blind
 //! reproduction), so what is asserted is internal consistency and values
 //! pinned from runs of other seeds, each shown to fail for a wrong reading
-//! (`any-mover`, the literal [PH95] gravity wording, or `ph94`, the default
-//! until session 2).
+//! (`any-mover`, the literal [PH95] gravity wording, or `ph94`, the first
+//! default).
 //! Seeds are fixed, so the tests are deterministic; the false-alarm rates
 //! stated are those of the statistic for a fresh seed. Cost (CPU seconds in
 //! the test profile on the development machine, EXPERIMENTS.md "Tests"):
 //! fig8 142, fig9 48 + 8, fig11 65 + 4, fig12 31 + 27 (the wrong-reading
-//! test of fig12 runs two readings since session 9: both fig12 tests took
+//! test of fig12 runs two readings: both fig12 tests took
 //! 82 s wall together on the 2 shared cores).
 
 mod common;
@@ -104,7 +104,7 @@ fn v_rho14_within_pinned(s: &serde_json::Value) -> bool {
 }
 
 /// The literal [PH95] gravity wording moves the peak at rho = 1.4 to
-/// v = 0.438 (EXPERIMENTS.md; `ph94`, the default until session 2: 0.416):
+/// v = 0.438 (EXPERIMENTS.md; `ph94`, the first default: 0.416):
 /// the pinned speed fails. Only rho = 1.4 and the largest density 3 (where
 /// the run stops within a few steps) are run, about 4 s; each point is its
 /// own ensemble, so these are the same runs as in the full sweep.
@@ -198,19 +198,19 @@ fn fig12(tag: &str, extra: &[&str]) -> serde_json::Value {
 
 /// I_c of the main pipe pinned from seeds 2-9 at the same set-up with 8
 /// bisection steps (`waves-fig12 --tier quick --sizes 220x11 --no-spectra
-/// --bisections 8 --seed k`, default reading of session 9, EXPERIMENTS.md
+/// --bisections 8 --seed k`, default reading with `inject-late`, EXPERIMENTS.md
 /// "The open-pipe figures with the new default"): all eight 0.513672 +-
 /// 0.001953. The scatter over seeds is below the bisection's resolution, so
 /// its SD is taken as that half-width, 0.001953 (SE 0.000691). A
 /// measurement I_c +- e (e the half-width of its final bracket) agrees when
 /// |I_c - 0.513672| <= e + 3 sqrt(SD^2 + SE^2) (= e + 0.0062). (The default
-/// of sessions 2-8 was pinned at 0.474121, SD 0.001381.)
+/// before `inject-late` was pinned at 0.474121, SD 0.001381.)
 fn ic_within_pinned(s: &serde_json::Value) -> bool {
     let (pin, sd, se) = (0.513672, 0.001953, 0.000691);
     (metric(s, "i_c") - pin).abs() <= metric(s, "i_c_err") + 3.0 * f64::hypot(sd, se)
 }
 
-/// The claims of issue 7 for the open pipe: exact mass bookkeeping, N(t)
+/// The claims of PH95 Fig. 12 for the open pipe: exact mass bookkeeping, N(t)
 /// stationary at 0.5 I_c and clogging or growing at 1.25 I_c (fresh runs,
 /// the bisection's trend test), and I_c with its error (the bisection
 /// half-width 2^-7 after 6 steps) agreeing with the pinned value.
@@ -229,9 +229,9 @@ fn fig12_open_pipe_critical_rate_and_bookkeeping() {
     );
 }
 
-/// `ph94`, the default until session 2, clogs earlier: I_c = 0.4395-0.4434
+/// `ph94`, the first default, clogs earlier: I_c = 0.4395-0.4434
 /// at seeds 1-9 (8 bisection steps, EXPERIMENTS.md), 0.4453 +- 0.0078 here,
-/// outside the pinned range; so does the default of sessions 2-8,
+/// outside the pinned range; so does the earlier default
 /// `ph94+gravity-first+wall-move` (injection at the start of the step,
 /// 0.474121 pinned then). `any-mover` (0.4355), `rest-up` and `up-to-rest`
 /// (0.422 +- 0.016 with 5 steps) lie lower still.
@@ -249,8 +249,8 @@ fn fig12_a_wrong_reading_fails_the_pinned_critical_rate() {
 }
 
 /// A censored I_c: with `inject-down` (READINGS.md P17) the open pipe is a
-/// free fall and no rate up to 1 clogs, so the bisection returns I_c = 1 +- 0
-/// (session 9). Then no tested rate lies above I_c and there is no I_c to
+/// free fall and no rate up to 1 clogs, so the bisection returns I_c = 1 +- 0.
+/// Then no tested rate lies above I_c and there is no I_c to
 /// take a spectrum at: `growing_above_i_c` and `one_over_f_at_i_c` are
 /// undecided (never passed, never failed on a clamped rate), `i_c` is not
 /// reproduced (the bound 1 lies beyond the margin), and the rate 1 that

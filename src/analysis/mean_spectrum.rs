@@ -13,7 +13,7 @@
 //! bins it removes around the peak), which is not smooth in the data: a
 //! delete-one jackknife multiplies every jump of that position by about
 //! sqrt(n - 1), so neither uses it (EXPERIMENTS.md "The SE of alpha when
-//! the removed peak moves", session 24).
+//! the removed peak moves").
 //! - [`v_of_mean_refined`]: the peak refined below one bin; a pilot
 //!   candidate, not used for grading.
 

@@ -114,7 +114,7 @@ pub fn half_time(runs: &[Vec<f64>], times: &[f64]) -> (f64, f64) {
 
 /// Largest late drift of a saturated series, as a fraction of its total
 /// change: (mean over the last quarter - mean over the third quarter) /
-/// |change| within this of 0 (fixed in session 1).
+/// |change| within this of 0 (fixed 2026-11-25).
 pub const SATURATION_MARGIN: f64 = 0.1;
 
 #[cfg(test)]

@@ -2,7 +2,7 @@
 //! smooth statistics (the exponent of the averaged spectrum) and the
 //! bootstrap for statistics that are not smooth in the data (the position of
 //! the peak of the averaged spectrum, a median). Used by the acceptance
-//! estimators (`drivers::acceptance`, issue 29).
+//! estimators (`drivers::acceptance`).
 //!
 //! Both are pure functions of their inputs: the bootstrap draws its
 //! resamples from a generator seeded with a fixed `seed`, so an estimate is

@@ -1,4 +1,4 @@
-//! Acceptance at the published set-ups (`--tier acceptance`, issue 29): the
+//! Acceptance at the published set-ups (`--tier acceptance`, MODEL.md A10): the
 //! margins and the run counts, fixed in code before the acceptance runs.
 //! The estimators live in [`crate::analysis::mean_spectrum`]; the pilot
 //! and stability studies that chose them in [`super::acceptance_study`].
@@ -8,7 +8,7 @@
 //! - **alpha**: the fit of the spectrum averaged over the runs (the default
 //!   fit of MODEL.md A9), with the bootstrap standard error over runs
 //!   ([`crate::analysis::mean_spectrum::alpha_of_mean`]; the delete-one
-//!   jackknife of the pilots until session 24 is inflated wherever the
+//!   jackknife the pilots used until 2026-12-05 is inflated wherever the
 //!   removed peak moves). A run whose own fit is an outlier (one in 16
 //!   had alpha 0.78) adds only 1/n of its power to the average.
 //! - **v**: the velocity of the peak of the averaged spectrum, with the
@@ -220,7 +220,7 @@ impl Threshold {
 }
 
 /// The thresholds of the acceptance tier's qualitative claims without a
-/// number (EXPERIMENTS.md "Acceptance", session 16: chosen after the
+/// number (EXPERIMENTS.md "Acceptance": chosen after the
 /// acceptance suite of base seed 1 had shown both statistics near 0 and
 /// no growth; a threshold above 0 can only turn these claims to "not
 /// reproduced", never flatter the model; graded on fresh seeds).
@@ -272,7 +272,7 @@ const fn white(check: &'static str, source: &'static str, s_open: f64) -> Margin
 }
 
 /// The derivation written with the white-noise rows.
-const WHITE_REASON: &str = "no number in the paper ('white'): threshold |alpha| <= 0.1 (pipe-matrix margin, fixed in session 2); s_open from 16 pilot runs of base seed 9001 (p = 0: 0.0452, segments of M = 16384 samples; b = 0: 0.2625, the removed peak's width, the line at v = 1/2 being large), rounded up; runs: pilot alpha -0.58 (p = 0) and -3.33 (b = 0), 0.17 and 0.18 per run: 2-3 runs decide in 95 % of seed sets, 8 for Student's t";
+const WHITE_REASON: &str = "no number in the paper ('white'): threshold |alpha| <= 0.1 (pipe-matrix margin, fixed before measuring); s_open from 16 pilot runs of base seed 9001 (p = 0: 0.0452, segments of M = 16384 samples; b = 0: 0.2625, the removed peak's width, the line at v = 1/2 being large), rounded up; runs: pilot alpha -0.58 (p = 0) and -3.33 (b = 0), 0.17 and 0.18 per run: 2-3 runs decide in 95 % of seed sets, 8 for Student's t";
 
 /// Runs per point of PH95 Fig. 8 at the acceptance tier: the pilot's power
 /// (16 runs per point, base seed 9001; EXPERIMENTS.md "Acceptance") gives
@@ -304,7 +304,7 @@ pub const FIG8_S_OPEN: [(f64, f64, f64); 11] = [
 /// The acceptance margin of PH95 Fig. 8's claim that alpha (`alpha` true)
 /// or v at dissipation `p` equals its value at p = 0.5: the threshold of the
 /// claim without a number (alpha [`ALPHA_MARGIN`], v [`V_SAME_MARGIN`],
-/// the reproduction matrix's, fixed in session 2) plus the point's s_open
+/// the reproduction matrix's, fixed before measuring) plus the point's s_open
 /// ([`FIG8_S_OPEN`]). None for a p the pilot did not measure.
 pub fn fig8_margin(alpha: bool, p: f64) -> Option<Margin> {
     let &(_, sa, sv) = FIG8_S_OPEN.iter().find(|r| r.0 == p)?;
@@ -326,14 +326,14 @@ pub fn fig8_margin(alpha: bool, p: f64) -> Option<Margin> {
         u_digits: 0.0,
         threshold: if alpha { ALPHA_MARGIN } else { V_SAME_MARGIN },
         runs: FIG8_RUNS,
-        derivation: "no number in the paper: the difference to p = 0.5 within the matrix's threshold (alpha 0.1, v 0.05, fixed in session 2); s_open of this point's difference from 16 pilot runs per point of base seed 9001, rounded up; runs: the pilot's power, see FIG8_RUNS",
+        derivation: "no number in the paper: the difference to p = 0.5 within the matrix's threshold (alpha 0.1, v 0.05, fixed before measuring); s_open of this point's difference from 16 pilot runs per point of base seed 9001, rounded up; runs: the pilot's power, see FIG8_RUNS",
     })
 }
 
-/// Runs per point of PH95 Figs. 9 and 10 at the acceptance tier (session
-/// 21): the count that [`super::acceptance_study::power`]'s rule picks from
-/// the pilot (16 runs per point, base seed 9001, fast engine; EXPERIMENTS.md
-/// "Figs. 9-10 run count"). The pilot predicts 12 of Fig. 9's 15 and 20 of
+/// Runs per point of PH95 Figs. 9 and 10 at the acceptance tier: the count
+/// that [`super::acceptance_study::power`]'s rule picks from the pilot (16
+/// runs per point, base seed 9001, fast engine; EXPERIMENTS.md "Figs. 9-10
+/// run count"). The pilot predicts 12 of Fig. 9's 15 and 20 of
 /// Fig. 10's 30 published checks decided at 128 (10 and 12 at 32); the
 /// others need 145 to millions of runs, or sit on their claim's edge.
 pub const FIG9_10_RUNS: usize = 128;

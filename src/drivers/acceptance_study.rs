@@ -1,4 +1,4 @@
-//! The studies behind the acceptance tier (issue 29): the pilot that
+//! The studies behind the acceptance tier (MODEL.md A10): the pilot that
 //! compares candidate estimators over disjoint groups of runs and measures
 //! the spread over the papers' open choices ([`pilot`],
 //! [`open_choice_values`]), the power analysis ([`runs_to_decide`]), and
@@ -245,15 +245,15 @@ fn gap_to_edge(x: f64, claim: crate::analysis::grading::Claim) -> f64 {
     }
 }
 
-/// The power of a pilot (issue 29, item 4): from a pilot's `summary.json`
+/// The power of a pilot: from a pilot's `summary.json`
 /// (a figure run with few runs per point on pilot seeds), for each published
 /// check with a value, an SE and at least 3 runs, its spread per run
 /// (SE x sqrt(runs)) and the runs per point that decide it in 95 % of seed
 /// sets ([`runs_to_decide`], scaled by the point's share of valid runs when
 /// the summary lists its seeds); then, for each count of [`POWER_COUNTS`], how many
 /// checks it is predicted to decide. The rule that picks a figure's count
-/// from this table, fixed before the pilot of Figs. 9-10 was read (session
-/// 21): the smallest count of [`POWER_COUNTS`] that is predicted to decide
+/// from this table, fixed before the pilot of Figs. 9-10 was read: the
+/// smallest count of [`POWER_COUNTS`] that is predicted to decide
 /// as many checks as the largest one.
 ///
 /// Errors: an unreadable or malformed summary ([`crate::ErrorKind::Io`],
@@ -723,7 +723,7 @@ fn case_of(figure: &str) -> crate::Result<PilotCase> {
 }
 
 /// `acceptance pilot`: the pilot study of one figure's acceptance check
-/// (issue 29): `runs` pilot runs (default 384, saved and resumed) graded
+/// (MODEL.md A10): `runs` pilot runs (default 384, saved and resumed) graded
 /// by every candidate estimator over disjoint groups of `group` runs, the
 /// spread over the papers' open choices on the first `open_runs` runs, and
 /// the runs each check needs to decide; printed and written to

@@ -1,6 +1,6 @@
 //! Grading a rule reading against the published claims of PH94 Figs. 1-2
-//! and PH95 Figs. 3-8, 11-12 (issue 4, the reproduction matrix; extended in
-//! issue 14, session 7). Every claim is measured with its error over runs
+//! and PH95 Figs. 3-8, 11-12 (MODEL.md A10; the reproduction matrix of
+//! MODEL.md A11). Every claim is measured with its error over runs
 //! and graded reproduced / not reproduced / undecided by the one rule of
 //! [`crate::analysis::grading`]. Each claim's published value, statistic and
 //! margin or threshold is in [`CLAIMS`]; they were fixed before measuring.
@@ -9,7 +9,7 @@
 //! `width_grows_check`, `wave_speed_check`, `sweep::same_as_check`,
 //! `alpha_check`, `open_pipe::*_check`, `dependence::fig9_claims`,
 //! `fig10_claims`). PH95 III F-H (Figs. 9-10), revealed after a blind
-//! measurement, joined in session 17 (issue 31).
+//! measurement, joined later (2026-12-04).
 
 use super::dependence::{fig10_claims, fig9_claims, Claimed, FIG10_B, FIG10_G, FIG9_RHO, G_LOW};
 use super::margins::{ALPHA_MARGIN, V_MARGIN, V_SAME_MARGIN};
@@ -66,12 +66,11 @@ pub struct Graded {
 
 /// The claims, with what each id means: the published value, the
 /// statistic and its margin or threshold (fixed before measuring; the first
-/// 11 are those of MODEL.md A10, sessions 1-2; the next 17 were added in
-/// session 7, issue 14, the next 10, PH95 III F-H, in session 17, issue 31,
-/// and the last, PH94 Fig. 2's alpha at the published set-up with the
-/// acceptance tier's estimator and margin (issue 31 item 2), each written
-/// down here and in EXPERIMENTS.md before any reading was graded against
-/// them).
+/// 11 are those of MODEL.md A10, fixed 2026-11-25; the next 17 were added
+/// on 2026-12-02, the next 10, PH95 III F-H, on 2026-12-04, and the last,
+/// PH94 Fig. 2's alpha at the published set-up with the acceptance tier's
+/// estimator and margin, each written down here and in EXPERIMENTS.md
+/// before any reading was graded against them).
 pub const CLAIMS: [(&str, &str); 39] = [
     (
         "waves_1a",
@@ -224,15 +223,14 @@ pub const CLAIMS: [(&str, &str); 39] = [
 pub const WAVE_THRESHOLD: f64 = 2.0;
 
 /// Version of the grading rules; caches of graded readings carry it, so a
-/// change of rule never mixes with old verdicts. 1: session 1 ("|d| <= 2
+/// change of rule never mixes with old verdicts. 1: the first rule ("|d| <= 2
 /// sqrt(SE^2 + e^2)"), 2: the equivalence test [`equivalent`] with 2 SE,
 /// 3: the one rule of [`crate::analysis::grading`] (k = max(2, t(0.975, n-1))
 /// SE, fewer than 3 runs undecided); 4: the same rule, 28 claims instead of
-/// 11 (issue 14, session 7); 5: a censored I_c (no rate up to 1 clogs)
-/// can no longer reproduce `i_c_size` or `i_c_params` by a difference of
-/// two bounds, and leaves `one_over_f_ic` undecided (session 9); 6: 38
-/// claims, PH95 III F-H added (issue 31, session 17); 7: 39, PH94 Fig. 2's
-/// alpha at the published set-up added.
+/// 11; 5: a censored I_c (no rate up to 1 clogs) can no longer reproduce
+/// `i_c_size` or `i_c_params` by a difference of two bounds, and leaves
+/// `one_over_f_ic` undecided; 6: 38 claims, PH95 III F-H added; 7: 39,
+/// PH94 Fig. 2's alpha at the published set-up added.
 pub const GRADING_VERSION: u32 = 7;
 
 /// "Density waves": s_low above [`WAVE_THRESHOLD`] by the one grading rule.

@@ -31,11 +31,12 @@ pub const EVERY: u64 = TREND_EVERY;
 /// Fewest steps of a trend run: 10 samples of N(t).
 pub const MIN_STEPS: u64 = 10 * EVERY;
 
-/// Why the default reading misses 1/f noise at I_c (session 12, measured
-/// at the paper tier), appended to the check when it is not reproduced.
+/// Why the default reading misses 1/f noise at I_c (measured at the paper
+/// tier), appended to the check when it is not reproduced.
 pub const ONE_OVER_F_AT_I_C: &str = "under the default reading alpha peaks below I_c (1.45 at 0.9 I_c at the paper tier) and falls near I_c, where the pipe's bottom is packed with rest particles and the bottom bin hardly varies (EXPERIMENTS.md, waves-fig12 at the paper tier with the fast engine)";
 
-/// Why the default reading's I_c depends on the pipe size (sessions 3-12).
+/// Why the default reading's I_c depends on the pipe size (measured at the
+/// paper tier).
 pub const I_C_INDEPENDENT: &str = "under the default reading narrow pipes clog later: I_c = 0.61 at W = 5 against 0.48-0.51 at W = 11 and 21 (paper tier; EXPERIMENTS.md, waves-fig12 at the paper tier with the fast engine)";
 
 /// Rates of the bottom-bin spectra as fractions of I_c, by tier.

@@ -4,8 +4,8 @@
 //! reproduction matrix ([`super::claims`]) grade them through these
 //! functions, so the figure and the matrix cannot disagree.
 //!
-//! Values and margins were fixed in session 17, before any reading was
-//! graded against them (issue 31). The default reading had been measured
+//! Values and margins were fixed on 2026-12-04, before any reading was
+//! graded against them. The default reading had been measured
 //! blind against these figures before the text was revealed (EXPERIMENTS.md
 //! "PH95 Figs. 9-10 blind"), so the claims without a number take the plainest
 //! threshold the wording allows (a sign, or the margins the suite already
@@ -90,7 +90,7 @@ fn above_check(name: &str, source: &str, q: Quantity, hi: &PointResult, lo: &Poi
 /// `check()`, unless every run at one of `points` left the model's validity
 /// (rest particles outnumber sites, MODEL.md A4): then a not-reproduced
 /// check, since the paper measures a value there and the model has none
-/// (the rule of the matrix's `rho_window` since session 7).
+/// (the rule of the matrix's `rho_window`).
 fn valid_or_fail(
     name: &str,
     source: &str,

@@ -28,7 +28,7 @@ use std::collections::BTreeMap;
 pub const I_CORR: f64 = 0.3;
 
 /// Steps over which the rise of C(-R, T) is taken for its onset
-/// (exploratory metric, session 10).
+/// (exploratory metric).
 pub const ONSET_WINDOW: u64 = 50;
 
 /// The correlation runs of PH95 Fig. 11 ([`corr_run`], sampled by
@@ -219,7 +219,7 @@ pub fn fig11_readings(paper: Option<&[CorrRun]>, corr: &[CorrRun], steps: u64) -
         metrics.insert("valid_runs_I0.5".into(), ps.valid as f64);
         checks.push(fig11_speed_check(&ps, paper.len()));
         // exploratory, not a check: the onset of C(-R, T)'s steepest rise
-        // (pre-registered in session 10, EXPERIMENTS.md "Fig. 11: an onset
+        // (pre-registered, EXPERIMENTS.md "Fig. 11: an onset
         // statistic")
         let on = corr_onset(paper, &ps, &FIG11_CORR, bin, ONSET_WINDOW);
         let (t_on, t_on_err) = mean_sem(&on.t_on);

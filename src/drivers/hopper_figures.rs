@@ -1,7 +1,7 @@
 //! The hopper figures of BB90 from their runs: Fig. 2 (filling and
 //! emptying; [`Fig2Runs`]) and Fig. 3 (the outflow and its spectrum;
 //! [`fig3_readings`], [`draw_fig3`]). Per figure its metrics, the checks of
-//! its claims with their thresholds and margins (issue 15, fixed before
+//! its claims with their thresholds and margins (fixed before
 //! measuring; HOPPER_READINGS.md lists the claims) and its charts, for every
 //! case (reading of "aligned", MODEL.md B4, B6). The runs themselves are
 //! [`crate::hopper::experiment`]'s; used by `hopper-fig2` and `hopper-fig3`.
@@ -299,16 +299,16 @@ pub const FIG3_RECORD: u64 = 6144;
 
 /// Margin Delta of "no monotonic variation" (BB90 Fig. 3): the mean outflow
 /// rate of the second half within 10% of the first half's (relative to the
-/// mean rate), fixed in session 4.
+/// mean rate), fixed 2026-12-01.
 pub const TREND_MARGIN: f64 = 0.1;
 
-/// Margin Delta of "white" over the whole band (BB90 Fig. 3; issue 15,
-/// fixed before measuring): the lag-1 autocorrelation of the outflow within
+/// Margin Delta of "white" over the whole band (BB90 Fig. 3; fixed
+/// before measuring): the lag-1 autocorrelation of the outflow within
 /// 0.1 of 0.
 pub const LAG1_MARGIN: f64 = 0.1;
 
 /// Margin Delta of "qualitatively similar results with orientation off"
-/// (BB90 Fig. 3 caption; issue 15, fixed before measuring): the stationary
+/// (BB90 Fig. 3 caption; fixed before measuring): the stationary
 /// rate with orientation on over the rate with it off, within 0.2 of 1.
 pub const RATE_RATIO_MARGIN: f64 = 0.2;
 

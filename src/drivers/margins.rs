@@ -1,13 +1,13 @@
 //! The margins Delta of the pipe's published claims that the reproduction
 //! matrix ([`super::claims`]), the sweeps ([`super::sweep`]) and the figure
 //! binaries share, each fixed before measuring. They live below all of
-//! them, so none imports another for a constant (issue 32). The margins of
+//! them, so none imports another for a constant. The margins of
 //! the acceptance tier, with their derivations, are in
 //! [`super::acceptance::MARGINS`].
 
 /// Agreement margin Delta of the alpha claims ("alpha near 4/3", "white
 /// noise, alpha about 0"): |alpha - target| <= 0.1, a third of the way from
-/// 4/3 to 1/f noise (alpha = 1). Fixed in session 2 before grading the new
+/// 4/3 to 1/f noise (alpha = 1). Fixed 2026-11-25, before grading the new
 /// readings; see `equivalent`.
 pub const ALPHA_MARGIN: f64 = 0.1;
 

@@ -1,4 +1,4 @@
-//! The reproduction matrix's procedure (`pipe-matrix`, issues 4 and 14):
+//! The reproduction matrix's procedure (`pipe-matrix`, MODEL.md A11):
 //! grade every reading against the claims of [`super::claims`], each
 //! reading saved once graded and reused, then the matrix as Markdown, CSV,
 //! a heat map, the default reading's checks and the list of cells.
@@ -300,7 +300,7 @@ pub fn default_checks(rows: &[Row], runs: usize) -> (Vec<Check>, f64) {
 }
 
 /// Add the matrix as a list of cells (`matrix`: reading, claim, status,
-/// measured, error) to the summary at `summary_path` (issue 4).
+/// measured, error) to the summary at `summary_path`.
 pub fn add_cells(summary_path: &Path, rows: &[Row]) -> Result<()> {
     let matrix: Vec<serde_json::Value> = rows
         .iter()

@@ -6,8 +6,8 @@
 //! - Shared by many figures: an ensemble of density spectra ([`spectra`]),
 //!   a sweep of spectra over a parameter ([`sweep`]), the open pipe's claims
 //!   ([`open_pipe`]), the margins of the published claims ([`margins`]).
-//! - One figure's procedure, so that its binary stays a short script
-//!   (issue 32): PH94 Fig. 1 ([`bands`]), PH95 Fig. 3 ([`relaxation`]),
+//! - One figure's procedure, so that its binary stays a short script:
+//!   PH94 Fig. 1 ([`bands`]), PH95 Fig. 3 ([`relaxation`]),
 //!   Figs. 4-5 ([`profiles`]), Fig. 7 ([`white_noise`]), Fig. 11
 //!   ([`fig11`]), Fig. 12 ([`critical`]), BB90 Figs. 2-3
 //!   ([`hopper_figures`]).

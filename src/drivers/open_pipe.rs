@@ -166,7 +166,7 @@ pub fn corr_speed(runs: &[CorrRun], setup: &CorrSetup, bin: usize) -> CorrSpeed 
     }
 }
 
-/// The onset of the steepest rise of C(-R, T) (exploratory, session 10,
+/// The onset of the steepest rise of C(-R, T) (exploratory,
 /// EXPERIMENTS.md "Fig. 11: an onset statistic"): per unclogged run and on
 /// their mean curve, with the rise over `window_steps` steps.
 #[derive(Debug, Clone, PartialEq)]
@@ -285,8 +285,8 @@ pub fn fig12_pipe(length: usize, width: usize, inject: f64) -> Params {
 }
 
 /// Margin Delta of the I_c claims: I_c is quoted to two decimals (0.52), and
-/// a change of 0.02 (4%) counts as a dependence. Chosen in session 4 from the
-/// quoted precision.
+/// a change of 0.02 (4%) counts as a dependence. Chosen on 2026-12-01 from
+/// the quoted precision.
 pub const I_C_MARGIN: f64 = 0.02;
 
 /// The published rate at which PH95 Fig. 12c shows N(t) growing.
@@ -451,7 +451,7 @@ mod tests {
 
     /// A censored I_c (half-width 0: no rate up to 1 clogged) never makes
     /// the independence claims pass by a difference of two bounds (the
-    /// matrix graded `inject-down` so before session 9), but a bracketed pair
+    /// matrix graded `inject-down` so before grading version 5), but a bracketed pair
     /// still can, and a large difference to a bound still fails.
     #[test]
     fn a_censored_i_c_never_reproduces_independence() {

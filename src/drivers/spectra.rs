@@ -22,7 +22,7 @@ pub struct SpectrumSetup {
     pub params: Params,
     /// The rule reading.
     pub rules: Rules,
-    /// The engine that runs it (`--engine`, issue 13).
+    /// The engine that runs it (`--engine`).
     pub engine: Engine,
     /// Steps discarded before recording (transient from the random start).
     pub transient: u64,

@@ -442,7 +442,7 @@ pub struct Fig7Reference {
 /// same tier, so that the sweep point and its reference share the set-up
 /// (spectrum length m) and the estimator of alpha (the mean of per-run fits,
 /// or at the acceptance tier the fit of the averaged spectrum). Until
-/// session 27 every tier used the quick tier's values; at the acceptance
+/// 2026-12-06 every tier used the quick tier's values; at the acceptance
 /// tier that compared Fig. 10's b = 0 point (-3.33) with -3.02 and failed
 /// for the set-up, not the model.
 pub fn fig7_reference(tier: Tier, case: Fig7Case) -> Fig7Reference {
@@ -480,7 +480,7 @@ pub fn fig7_reference(tier: Tier, case: Fig7Case) -> Fig7Reference {
 }
 
 /// Margin Delta of the pinned alpha checks of the sweeps: the alpha margin
-/// of the matrix ([`super::margins::ALPHA_MARGIN`]), fixed in session 2.
+/// of the matrix ([`super::margins::ALPHA_MARGIN`]), fixed before measuring.
 pub const PINNED_ALPHA_MARGIN: f64 = super::margins::ALPHA_MARGIN;
 
 impl PointResult {

@@ -1,4 +1,4 @@
-//! The engine contract of the hopper automaton (issue 12): what any
+//! The engine contract of the hopper automaton (MODEL.md Part B): what any
 //! implementation of BB90's hopper offers, so that `validate` can check it
 //! against the reference engine [`Hopper`], in the style of
 //! [`crate::pipe::engine`].

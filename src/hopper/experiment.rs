@@ -659,7 +659,7 @@ pub fn analyse_outflow(records: &[Record], m: usize) -> Result<OutflowAnalysis> 
 }
 
 /// The outflow rate from opening while more than `full` of the grains
-/// remain, the window taken literally (no start-up skipped): the
+/// remain, the window taken literally (no start-up skipped): the
 /// mean rate and the standard deviation of the per-iteration outflow, each
 /// averaged over `records`.
 pub fn open_window_rates(records: &[Record], full: f64) -> (f64, f64) {

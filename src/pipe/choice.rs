@@ -1,14 +1,14 @@
-//! Which implementation runs a pipe figure (`--engine`, issue 13): the
+//! Which implementation runs a pipe figure (`--engine`): the
 //! choice between the two engines that implement the contract of
 //! [`super::engine`]. It sits above both, so neither engine imports the
-//! other (issue 32).
+//! other.
 
 use super::engine::{EngineBuilder, PipeEngine, Reference};
 use super::fast::Fast;
 use super::{Params, Rules};
 use crate::error::Result;
 
-/// Which implementation runs a pipe figure (`--engine`, issue 13): the
+/// Which implementation runs a pipe figure (`--engine`): the
 /// plain reference engine [`Pipe`](super::Pipe) or the bit-sliced fast engine
 /// ([`FastPipe`](super::fast::FastPipe)), which `validate` checks against it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -1,4 +1,4 @@
-//! The engine contract of the pipe lattice gas (issue 12): what any
+//! The engine contract of the pipe lattice gas (MODEL.md Part A): what any
 //! implementation of the automaton offers, so that `validate` can check it
 //! against the reference engine [`super::Pipe`].
 //!

@@ -107,7 +107,7 @@ impl Default for Params {
 }
 
 impl Params {
-    /// Check every parameter against its allowed range (MODEL.md A8, issue 2).
+    /// Check every parameter against its allowed range (MODEL.md A8).
     pub fn validate(&self) -> Result<()> {
         check_min("W (width)", self.width, 1)?;
         check_min("L (length)", self.length, 1)?;

@@ -186,7 +186,7 @@ pub fn peak_index(c: &[f64], from: usize) -> Option<usize> {
         .max_by(|&a, &b| c[a].total_cmp(&c[b]))
 }
 
-/// Index of the onset of the steepest rise of `c` (session 10,
+/// Index of the onset of the steepest rise of `c` (exploratory,
 /// EXPERIMENTS.md "Fig. 11: an onset statistic"): with the rise over
 /// `window` samples s(t) = c(t + window) - c(t), the first t at which s(t)
 /// reaches half the largest s. None when no rise is positive or finite.
@@ -305,7 +305,8 @@ mod tests {
         pipe.set_site(x, y, state & (state - 1)); // drop one particle
         assert!(!books_balance(&pipe, 0));
         // I = 0.8 fills this pipe with rest particles: recorded, not fatal
-        // (I = 0.5 did with the default of sessions 2-8, not with inject-late)
+        // (I = 0.5 did with the earlier default ph94+gravity-first+wall-move,
+        // not with inject-late)
         let clog = Params {
             boundary: Boundary::Open { inject: 0.8 },
             ..params

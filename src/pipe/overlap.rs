@@ -420,7 +420,7 @@ pub const FIG5_BIN: usize = 8;
 pub const FIG5_MAX_LAG: usize = 20;
 
 /// Margin Delta of the wave-speed claims: the published error bar of the
-/// wave speed (PH95 Fig. 5: 0.36 +- 0.05), fixed in session 4.
+/// wave speed (PH95 Fig. 5: 0.36 +- 0.05), fixed 2026-12-01.
 pub const SPEED_MARGIN: f64 = 0.05;
 
 /// PH95 Fig. 4, "the wave front is steeper than the back side" at pipe

@@ -4,12 +4,13 @@
 //!
 //! A rule set is written as names joined by `+`, e.g. `ph94+wall-drag` or
 //! `any-mover+gravity-first`. `ph94` alone is the literal reading of
-//! MODEL.md A2-A6 (the default until session 2); `default` is the project's default, the reading that
-//! reproduces the most published claims in the reproduction matrix (issue 4,
-//! EXPERIMENTS.md "Reproducing Peng & Herrmann: which reading"; issue 14,
-//! session 9): `ph94+gravity-first+wall-move+inject-late`. `inject-late`
-//! acts only in the open pipe, so in the periodic pipe the default is the
-//! reading `ph94+gravity-first+wall-move` of sessions 2-8, step for step.
+//! MODEL.md A2-A6 (the first default); `default` is the project's default,
+//! the reading that reproduces the most published claims in the
+//! reproduction matrix (MODEL.md A11, EXPERIMENTS.md "Reproducing Peng &
+//! Herrmann: which reading"): `ph94+gravity-first+wall-move+inject-late`.
+//! `inject-late` acts only in the open pipe, so in the periodic pipe the
+//! default is the earlier default `ph94+gravity-first+wall-move`, step for
+//! step.
 //!
 //! ```
 //! use granular_automata::pipe::Rules;
@@ -83,7 +84,7 @@ pub struct Rules {
     pub gravity_last: bool,
     /// Placement of extra rest particles (A4).
     pub rest: RestPlacement,
-    /// `wall-move` (A6 variant, issue 4): a particle heading into a wall is
+    /// `wall-move` (A6 variant): a particle heading into a wall is
     /// reflected (bounce-back with probability b, else specular) just before
     /// propagation and moves along its new velocity in the same step, when
     /// the reflected channels of its site are empty; otherwise it is
@@ -97,13 +98,13 @@ pub struct Rules {
     /// diagonal mover falls 1/2 per step at every step. With W = 1 both
     /// walls act on the one column and the variant changes nothing.
     pub wall_move: bool,
-    /// `rest-slide` (A5 variant, session 3): a rest particle whose fall
+    /// `rest-slide` (A5 variant): a rest particle whose fall
     /// channel 4 is occupied slides down a diagonal instead (0 -> 3 or
     /// 0 -> 5, one chosen at random among the empty ones) with probability g.
     /// Motivation: with A5 as written every reading ends with channel 4
     /// nearly full at rho >= 1 (a stream of down-movers through every site),
     /// so rest particles can never fall and stand as jams (MODEL.md A11,
-    /// EXPERIMENTS.md session 3); the diagonals are the only other downward
+    /// EXPERIMENTS.md on `rest-slide`); the diagonals are the only other downward
     /// channels, and they reach the rough walls.
     pub rest_slide: bool,
     /// `fhp-rest` (A3 variant, READINGS.md P4): a mover meeting a lone rest
@@ -175,12 +176,12 @@ impl Rules {
 
 impl Default for Rules {
     /// The project's default (`default`): `ph94+gravity-first+wall-move`
-    /// (issue 4, chosen by the paper-tier reproduction matrix: PH94 Fig. 1,
-    /// alpha of PH94 Fig. 2, the b = 0 peak at v = 1/2 of PH95 Fig. 7) with
-    /// `inject-late` (issue 14, session 9: the open pipe's injection after
-    /// collisions and gravity; 14 of the matrix's 28 claims at the standard
-    /// tier against 12 without it, EXPERIMENTS.md "Issue 14: the injection
-    /// axes"). In the periodic pipe `inject-late` changes nothing.
+    /// (chosen by the paper-tier reproduction matrix, MODEL.md A11: PH94
+    /// Fig. 1, alpha of PH94 Fig. 2, the b = 0 peak at v = 1/2 of PH95 Fig. 7)
+    /// with `inject-late` (the open pipe's injection after collisions and
+    /// gravity; 14 of the matrix's 28 claims at the standard tier against 12
+    /// without it, EXPERIMENTS.md "the injection axes"). In the periodic pipe
+    /// `inject-late` changes nothing.
     fn default() -> Self {
         Rules {
             gravity_first: true,
@@ -195,7 +196,7 @@ impl Default for Rules {
 pub const RULE_NAMES: [(&str, &str); 15] = [
     (
         "default",
-        "the project's default reading, ph94+gravity-first+wall-move+inject-late (issues 4, 14)",
+        "the project's default reading, ph94+gravity-first+wall-move+inject-late",
     ),
     (
         "ph94",

@@ -1,5 +1,5 @@
 //! Which collision rule stops the movers (a diagnostic of the reference
-//! engine, session 10; EXPERIMENTS.md "Which rule stops the movers").
+//! engine, MODEL.md A3; EXPERIMENTS.md "Which rule stops the movers").
 //!
 //! A mover is stopped when a collision turns it into a rest particle: R2 and
 //! R3 do so with probability p (MODEL.md A3), R4 and R5 with certainty, and
@@ -9,8 +9,8 @@
 //! claim would need"). It also counts the holes of the lane (channel 4
 //! empty) at the rest particles and elsewhere, before gravity and before the
 //! collisions, since the rest particles' lifetime turned out to set the
-//! p-dependence (session 11), and the holes above a rest particle and the
-//! counts per column (session 12). It observes the run through
+//! p-dependence, and the holes above a rest particle and the
+//! counts per column. It observes the run through
 //! [`super::order`] and cannot change it.
 
 use super::collision::{bit, Rule, MOVERS, REST_BIT};
@@ -61,7 +61,7 @@ pub struct StopCounts {
     /// The sites just above (x, y + 1, wrapping) a site that holds a rest
     /// particle after the collisions, `[rest below, no rest below]`, summed
     /// over the steps: their channel-4 mover is what propagation brings to
-    /// the site below (session 12).
+    /// the site below.
     pub above: [u64; 2],
     /// Of those, the ones whose channel 4 was empty before the collisions.
     pub above_holes_before: [u64; 2],

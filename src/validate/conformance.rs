@@ -1,4 +1,4 @@
-//! Level 1 of `validate`: rule conformance (issue 12). For every state of a
+//! Level 1 of `validate`: rule conformance (MODEL.md A2-A7). For every state of a
 //! site alone in an otherwise empty pipe, the reference engine's exact
 //! one-step outcome distribution (enumerated over every branch of every
 //! draw, [`crate::pipe::draws::Enumerator`]), at the interior, both walls,
@@ -17,7 +17,7 @@
 //! particles to meet on one site). Blocks 5 rows apart were too close: with
 //! collision before gravity a two-hop walk and a fall reach the next block,
 //! and the reference itself failed level 1 for every reading without
-//! `gravity-first` (found by the fast engine's author in session 6).
+//! `gravity-first` (found while writing the fast engine).
 
 use super::candidate::{Candidate, RunPlan};
 use crate::error::{Error, Result};

@@ -1,7 +1,8 @@
-//! `validate --detect E` (issue 33 item 3): the level-1 trials and level-2
+//! `validate --detect E`: the level-1 trials and level-2
 //! runs that catch a rule probability off by the relative error E with
 //! power 0.95, from the measured detection table (VALIDATION.md, "The
-//! smallest detectable error"; EXPERIMENTS.md, issue 33).
+//! smallest detectable error"; EXPERIMENTS.md, "The smallest detectable
+//! error of validate").
 //!
 //! The scaling: a probability q used as (1 + e) q shifts the frequency of
 //! an outcome by about e q, and the statistics of both levels (binomial
@@ -23,22 +24,22 @@ use crate::run::Tier;
 /// e sqrt(n) = 0.03 sqrt(20000) = 4.24 (standard tier, +3 %) p, p in R3
 /// alone and R1's split were each caught 20 of 20 times, g and b already at
 /// 2.83 (+2 %); below it, R3 alone at 3.16 (quick, +5 %) only 6 of 20, R1's
-/// split 15 of 20. Measured in sessions 18-19 (EXPERIMENTS.md).
+/// split 15 of 20. Measured 2026-12-04 to 2026-12-05 (EXPERIMENTS.md).
 pub const LEVEL1_C: f64 = 4.25;
 
 /// e sqrt(runs) of level 2 at power 0.95 for the injection rate, at the
 /// scenes of the quick and of the standard tier: +3 % with 8 runs (quick)
 /// caught 20 of 20 times, +1 % 8 of 20; +1 % with 16 runs (standard) 20 of
-/// 20 (an upper bound). Measured in session 19.
+/// 20 (an upper bound). Measured 2026-12-05.
 pub const LEVEL2_C: (f64, f64) = (0.085, 0.04);
 
 /// Level-1 CPU seconds per trial per state (reference and candidate both
 /// the reference engine; `validate --level 1`, quick 4.1 s for 4000
-/// trials, standard 20.3 s for 20000, session 19).
+/// trials, standard 20.3 s for 20000, measured 2026-12-05).
 pub const LEVEL1_CPU_PER_TRIAL: f64 = 1.0e-3;
 
 /// Level-2 CPU seconds per run per engine (all scenes, both engines): quick
-/// 3.05 s for 8 runs, standard 19.95 s for 16 runs (session 19).
+/// 3.05 s for 8 runs, standard 19.95 s for 16 runs (measured 2026-12-05).
 pub const LEVEL2_CPU_PER_RUN: (f64, f64) = (0.38, 1.25);
 
 /// What `--detect` chose.

@@ -1,4 +1,4 @@
-//! The hopper behind the external-program contract (issue 33 item 5;
+//! The hopper behind the external-program contract (MODEL.md Part B;
 //! VALIDATION.md, "The external contract: the hopper").
 //!
 //! `validate` starts `sh -c 'COMMAND "$@"' sh hopper --plan -` and writes

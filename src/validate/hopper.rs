@@ -1,4 +1,4 @@
-//! The hopper half of `validate` (issue 12, VALIDATION.md "Hopper"): a
+//! The hopper half of `validate` (MODEL.md B3-B4, VALIDATION.md "Hopper"): a
 //! candidate's hopper engine, behind the contract of
 //! [`crate::hopper::engine`], against the reference [`Hopper`].
 //!

@@ -1,4 +1,4 @@
-//! Level 1's memory probe (issue 33 item 4): what the lone-site probes of
+//! Level 1's memory probe: what the lone-site probes of
 //! [`super::conformance`] cannot see. Those see one step of many isolated
 //! sites, so a candidate whose every one-site distribution is exact passes
 //! them even when its draws are correlated between neighbouring sites or

@@ -1,5 +1,5 @@
 //! `validate`: check another implementation of the pipe automaton against
-//! the reference engine (issue 12, VALIDATION.md). A driver layer above the
+//! the reference engine (MODEL.md Part A, VALIDATION.md). A driver layer above the
 //! models, like the figure drivers.
 //!
 //! - Level 1 ([`conformance`]): every one-step outcome distribution of a lone
@@ -32,7 +32,7 @@ use conformance::Level1;
 use scenes::Level2;
 use serde::Serialize;
 
-/// Family-wise false-alarm rate of each level (fixed, issue 12).
+/// Family-wise false-alarm rate of each level (fixed).
 pub const ALPHA: f64 = 0.01;
 
 /// Which levels to run.

@@ -1,4 +1,4 @@
-//! The catalogue of mutant engines (issue 12): the reference engine with one
+//! The catalogue of mutant engines (VALIDATION.md): the reference engine with one
 //! plausible bug each. `validate` must fail every one of them; the power
 //! table of EXPERIMENTS.md says which level catches which, at what cost.
 
@@ -36,12 +36,12 @@ pub enum Mutant {
     /// The random stream has lost its top bit (a signed/unsigned slip): every
     /// probability q is used as min(1, 2q).
     BiasedStream,
-    /// Correlated draws, exact marginals (issue 33 item 4): the random stream
+    /// Correlated draws, exact marginals: the random stream
     /// starts afresh from the same state at every step, as a counter-based
     /// generator keyed by site but not by time would. Every single draw is
     /// uniform; the draws of step t + 1 repeat those of step t.
     DrawsRepeatEachStep,
-    /// Correlated draws, exact marginals (issue 33 item 4): the fast
+    /// Correlated draws, exact marginals: the fast
     /// (bit-sliced) engine with two neighbouring lanes sharing their random
     /// bits, as a lane mask built one bit too wide would: rows 2j and 2j + 1
     /// of a column make the same random choices. Every one-site
@@ -300,7 +300,7 @@ impl HopperBuilder for Mutant {
     }
 }
 
-/// Which rule probability a [`Scaled`] mutant changes (issue 33 item 1).
+/// Which rule probability a [`Scaled`] mutant changes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Knob {
     /// p in R2 and R3 (MODEL.md A3).
@@ -330,7 +330,7 @@ pub const KNOBS: [(&str, Knob); 7] = [
     ("inject", Knob::Inject),
 ];
 
-/// A parametric mutant (issue 33 item 1): the reference engine with one
+/// A parametric mutant: the reference engine with one
 /// rule probability q used as min(1, factor q), e.g. `mutant:p*1.03` for
 /// p 3 % high or `mutant:r1-split*1.04` for R1 splitting 52/48.
 /// `mutant:p*1.1` is the catalogue's `p+10%`.

@@ -1,4 +1,4 @@
-//! Level 2 of `validate`: statistical equivalence on scenes (issue 12).
+//! Level 2 of `validate`: statistical equivalence on scenes (MODEL.md A9).
 //! Reference and candidate each run the same fixed list of short scenes on
 //! disjoint seeds; every observable of every scene is compared by Welch's
 //! two-sample t test, and the family of all tests of the report is

@@ -1,4 +1,4 @@
-//! A fast, bit-sliced engine of the pipe lattice gas (issue 13): the rules
+//! A fast, bit-sliced engine of the pipe lattice gas: the rules
 //! of MODEL.md Part A on 64 sites at once, with the outcome probabilities of
 //! the reference engine [`super::Pipe`] exactly (same thresholds), but not
 //! its sequence of draws: a run of [`FastPipe`] is a different sample of the
