@@ -11,7 +11,8 @@
 
 use clap::Parser;
 use granular_automata::cli::parse_threads;
-use granular_automata::report::{check_publish_folder, parse_extra, publish, run, select, Options};
+use granular_automata::experiments;
+use granular_automata::report::{check_folders, parse_extra, publish, run, select, Options};
 use granular_automata::run::Tier;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -62,6 +63,14 @@ struct Args {
     /// its run here equals its committed twin (same seeds) result for result.
     #[arg(long, value_name = "DIR")]
     seed_sets: Option<PathBuf>,
+    /// Also write the current record of every claim (EXPERIMENTS.md) to
+    /// this file, from the report and the per-claim notes of --claim-notes.
+    #[arg(long, value_name = "FILE")]
+    experiments: Option<PathBuf>,
+    /// The per-claim notes (binary, check, note; tab-separated) that
+    /// --experiments writes beside each claim.
+    #[arg(long, value_name = "FILE", default_value = granular_automata::experiments::NOTES)]
+    claim_notes: PathBuf,
 }
 
 fn main() {
@@ -71,17 +80,9 @@ fn main() {
 fn report() -> granular_automata::Result<()> {
     let a = Args::parse();
     let figures = select(a.only.as_deref())?;
-    if let Some(d) = a.seed_sets.as_ref().filter(|d| !d.is_dir()) {
-        return Err(granular_automata::Error::new(
-            granular_automata::ErrorKind::InvalidParameter,
-            format!(
-                "--seed-sets {}: not a folder; give the folder of committed seed sets, e.g. docs/acceptance",
-                d.display()
-            ),
-        ));
-    }
-    if let Some(dest) = &a.publish {
-        check_publish_folder(&a.out, dest)?;
+    check_folders(&a.out, a.publish.as_deref(), a.seed_sets.as_deref())?;
+    if a.experiments.is_some() {
+        experiments::read_notes_file(&a.claim_notes)?;
     }
     if let Some(e) = &a.engine {
         e.parse::<granular_automata::pipe::Engine>()?;
@@ -91,10 +92,6 @@ fn report() -> granular_automata::Result<()> {
         let (bin, args) = parse_extra(spec, &figures)?;
         extra.insert(bin, args);
     }
-    let bin_dir = std::env::current_exe()
-        .ok()
-        .and_then(|p| p.parent().map(PathBuf::from))
-        .unwrap_or_else(|| PathBuf::from("."));
     let opts = Options {
         tier: a.tier,
         figures,
@@ -103,7 +100,7 @@ fn report() -> granular_automata::Result<()> {
         threads: a.threads,
         engine: a.engine,
         extra,
-        bin_dir,
+        bin_dir: granular_automata::report::bin_dir(),
         command_line: std::env::args().collect::<Vec<_>>().join(" "),
         no_run: a.no_run,
         seed_sets: a.seed_sets,
@@ -128,23 +125,10 @@ fn report() -> granular_automata::Result<()> {
         publish(&opts.out, &r, dest)?;
         println!("published a copy in {}", dest.display());
     }
-    let failed: Vec<&str> = r
-        .figures
-        .iter()
-        .filter(|f| !f.run.ok)
-        .map(|f| f.run.binary.as_str())
-        .collect();
-    if failed.is_empty() {
-        Ok(())
-    } else {
-        Err(granular_automata::Error::new(
-            granular_automata::ErrorKind::Io,
-            format!(
-                "{} of {} figures failed: {} (listed in the report)",
-                failed.len(),
-                r.figures.len(),
-                failed.join(", ")
-            ),
-        ))
+    if let Some(path) = &a.experiments {
+        let dir = a.publish.clone().unwrap_or_else(|| opts.out.join("report"));
+        experiments::write(path, &dir.join("report.json"), &a.claim_notes)?;
+        println!("wrote {}", path.display());
     }
+    granular_automata::report::fail_on_failed_figures(&r)
 }

@@ -76,6 +76,12 @@ struct Args {
 /// candidate fails or cannot be run.
 fn main() {
     let args = Args::parse();
+    // an interrupted validation stops the external candidate it is running
+    // (its own process group) before it exits
+    let _ = ctrlc::set_handler(|| {
+        granular_automata::validate::candidate::running::kill_all();
+        std::process::exit(130);
+    });
     let setup = usage(&args).unwrap_or_else(|e| {
         eprintln!("Error: {e:?}");
         std::process::exit(2)
@@ -148,6 +154,9 @@ fn run(args: &Args, setup: Setup) -> Result<bool, Box<dyn std::error::Error>> {
     write_atomic(&out.path("report.json"), json.as_bytes())?;
     for line in validate::summary_lines(&report, out.dir()) {
         println!("{line}");
+    }
+    if let Some(f) = &report.failure {
+        eprintln!("validate: {} FAILS: {f}", report.candidate);
     }
     Ok(report.pass)
 }

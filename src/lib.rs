@@ -57,6 +57,7 @@ pub mod cli;
 pub mod drivers;
 pub mod ensemble;
 pub mod error;
+pub mod experiments;
 pub mod hopper;
 pub mod lattice;
 pub mod pipe;

@@ -620,6 +620,58 @@ pub fn git_commit() -> String {
     }
 }
 
+/// The verdicts a check may carry.
+const VERDICTS: [&str; 3] = ["reproduced", "not-reproduced", "undecided"];
+
+/// The kinds a check may state (a check of the older format states none).
+const KINDS: [&str; 3] = ["published", "pinned", "identity"];
+
+/// Refuse a summary.json the report cannot grade: no `checks` list (or an
+/// empty one), a check without a name, a kind or verdict outside the known
+/// ones, or a decided verdict without a finite measured value. Names the
+/// check and field.
+fn check_summary(s: &Value) -> std::result::Result<(), String> {
+    let checks = match s.get("checks") {
+        Some(Value::Array(c)) if !c.is_empty() => c,
+        Some(Value::Array(_)) => return Err("malformed: `checks` is empty".into()),
+        Some(_) => return Err("malformed: `checks` is not a list".into()),
+        None => return Err("malformed: no `checks` field".into()),
+    };
+    for (i, c) in checks.iter().enumerate() {
+        let Some(name) = c["name"].as_str().filter(|n| !n.is_empty()) else {
+            return Err(format!("malformed: check {i} has no `name`"));
+        };
+        let bad =
+            |field: &str, what: String| Err(format!("malformed: check {name}: `{field}` {what}"));
+        match &c["kind"] {
+            Value::Null => {}
+            Value::String(k) if KINDS.contains(&k.as_str()) => {}
+            k => return bad("kind", format!("is {k}, not one of {}", KINDS.join(", "))),
+        }
+        let verdict = match &c["verdict"] {
+            Value::Null => None,
+            Value::String(v) if VERDICTS.contains(&v.as_str()) => Some(v.as_str()),
+            v => {
+                return bad(
+                    "verdict",
+                    format!("is {v}, not one of {}", VERDICTS.join(", ")),
+                )
+            }
+        };
+        let decided = verdict.map_or(c["pass"].is_boolean(), |v| v != "undecided");
+        if decided && finite(&c["measured"]).is_none() {
+            return bad(
+                "measured",
+                format!(
+                    "is {}, but a decided check needs a finite measured value",
+                    c["measured"]
+                ),
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Read `out/<binary>/` after its run: the figure's summary fields, its
 /// rows (none when the run failed) and its files.
 pub fn read_figure(out: &Path, run: FigureRun) -> (FigureReport, Vec<Row>) {
@@ -659,10 +711,14 @@ pub fn read_figure(out: &Path, run: FigureRun) -> (FigureReport, Vec<Row>) {
     let s: Value = match std::fs::read_to_string(&path)
         .map_err(|e| e.to_string())
         .and_then(|t| serde_json::from_str(&t).map_err(|e| e.to_string()))
+        .and_then(|s| check_summary(&s).map(|()| s))
     {
         Ok(s) => s,
         Err(e) => {
-            fr.summary_problem = Some(format!("cannot read {}: {e}", path.display()));
+            let problem = format!("cannot read {}: {e}", path.display());
+            fr.summary_problem = Some(problem.clone());
+            fr.run.ok = false;
+            fr.run.failure = Some(problem);
             return (fr, vec![]);
         }
     };
@@ -948,12 +1004,78 @@ pub fn seed_set_lines(r: &Report) -> Vec<String> {
         .collect()
 }
 
+/// An error naming the figures of `r` that failed, each with why; `Ok`
+/// when none did.
+pub fn fail_on_failed_figures(r: &Report) -> Result<()> {
+    let failed: Vec<String> = r
+        .figures
+        .iter()
+        .filter(|f| !f.run.ok)
+        .map(|f| match &f.run.failure {
+            Some(why) => format!("{} ({why})", f.run.binary),
+            None => f.run.binary.clone(),
+        })
+        .collect();
+    if failed.is_empty() {
+        return Ok(());
+    }
+    Err(Error::new(
+        ErrorKind::Io,
+        format!(
+            "{} of {} figures failed: {} (listed in the report)",
+            failed.len(),
+            r.figures.len(),
+            failed.join(", ")
+        ),
+    ))
+}
+
+/// The folder of the figure binaries: the report's own.
+pub fn bin_dir() -> PathBuf {
+    std::env::current_exe()
+        .ok()
+        .and_then(|p| p.parent().map(PathBuf::from))
+        .unwrap_or_else(|| PathBuf::from("."))
+}
+
+/// Check the report's folders before anything runs: `--seed-sets` must be
+/// a folder, and `--publish` apart from `--out` ([`check_publish_folder`]).
+pub fn check_folders(out: &Path, publish: Option<&Path>, seed_sets: Option<&Path>) -> Result<()> {
+    if let Some(d) = seed_sets.filter(|d| !d.is_dir()) {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!(
+                "--seed-sets {}: not a folder; give the folder of committed seed sets, e.g. docs/acceptance",
+                d.display()
+            ),
+        ));
+    }
+    publish.map_or(Ok(()), |p| check_publish_folder(out, p))
+}
+
 /// Assemble the report from finished `runs` (reads their summaries).
 pub fn collect(opts: &Options, runs: Vec<FigureRun>) -> Report {
     let mut figures = vec![];
     let mut rows = vec![];
     for r in runs {
-        let (f, rs) = read_figure(&opts.out, r);
+        let (mut f, rs) = read_figure(&opts.out, r);
+        if f.run.ok && f.tier != opts.tier.name() {
+            let problem = format!(
+                "its summary.json is of the {} tier, this report's is {}: rerun with --tier {}",
+                if f.tier.is_empty() {
+                    "unstated"
+                } else {
+                    &f.tier
+                },
+                opts.tier.name(),
+                if f.tier.is_empty() { "TIER" } else { &f.tier },
+            );
+            f.summary_problem = Some(problem.clone());
+            f.run.ok = false;
+            f.run.failure = Some(problem);
+            figures.push(f);
+            continue;
+        }
         figures.push(f);
         rows.extend(rs);
     }

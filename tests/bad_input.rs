@@ -579,3 +579,271 @@ fn usage_errors_exit_2_and_help_exits_0_everywhere() {
         assert!(String::from_utf8_lossy(&o.stdout).contains("usage") || !o.stdout.is_empty());
     }
 }
+
+/// A candidate whose bins break the contract's identity (whole particles,
+/// summing to the channel counts) fails, whatever its series look like:
+/// every bin + 1 or + 0.5 used to pass level 2, and constant bins aborted
+/// with an error that did not name the candidate. Each is now a FAIL with
+/// a report naming what was wrong; the first bad run stops the level.
+#[test]
+fn validate_fails_a_candidate_that_breaks_the_bin_identity() {
+    let exe = env!("CARGO_BIN_EXE_validate");
+    let example = env!("CARGO_BIN_EXE_validate-example");
+    let edited = |perl: &str| format!("cmd:f() {{ {example} \"$@\" | perl -pe '{perl}'; }}; f");
+    let bins = |expr: &str| {
+        edited(&format!(
+            r#"s/"bins":\[([^\]]*)\]/"\"bins\":[".join(",", map {{ {expr} }} split(",", $1))."]"/e"#
+        ))
+    };
+    for (tag, cand, want) in [
+        ("plus-one", bins("$_ + 1"), "bins summing to"),
+        ("plus-half", bins("$_ + 0.5"), "not a whole number"),
+        ("zero", bins("0"), "bins summing to"),
+        ("huge", bins("1e308"), "bins summing to"),
+    ] {
+        let out = scratch(&format!("identity-{tag}"));
+        let args = [
+            "--candidate",
+            &cand,
+            "--level",
+            "2",
+            "--runs",
+            "3",
+            "--model",
+            "pipe",
+        ];
+        let start = std::time::Instant::now();
+        let o = Command::new(exe)
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{tag}: {err}");
+        assert!(err.contains("FAILS") && err.contains(want), "{tag}: {err}");
+        let report = std::fs::read_to_string(out.join("validate/report.md")).unwrap();
+        assert!(
+            report.contains("FAIL") && report.contains(want),
+            "{tag}: {report}"
+        );
+        assert!(
+            report.contains("perl"),
+            "the report names the candidate: {report}"
+        );
+        assert!(
+            start.elapsed().as_secs() < 60,
+            "{tag}: the first bad run stops it"
+        );
+    }
+}
+
+/// A candidate that prints a line far longer than its plan allows is
+/// stopped with a typed error instead of being read into memory.
+#[test]
+fn validate_caps_the_length_of_a_candidate_line() {
+    let exe = env!("CARGO_BIN_EXE_validate");
+    let out = scratch("long-line");
+    let cand = "cmd:f() { head -c 50000000 /dev/zero | tr '\\0' x; }; f";
+    let o = Command::new(exe)
+        .args([
+            "--candidate",
+            cand,
+            "--level",
+            "1",
+            "--model",
+            "pipe",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("bytes") && err.contains("its plan"), "{err}");
+}
+
+/// The processes whose command line contains `needle` (from /proc).
+fn processes_with(needle: &str) -> Vec<String> {
+    let Ok(dir) = std::fs::read_dir("/proc") else {
+        return vec![];
+    };
+    dir.flatten()
+        .filter_map(|e| std::fs::read(e.path().join("cmdline")).ok())
+        .map(|c| String::from_utf8_lossy(&c).replace('\0', " "))
+        .filter(|c| c.contains(needle) && !c.contains("validate"))
+        .collect()
+}
+
+/// SIGINT to `validate` stops the external candidate it is running (its
+/// own process group) before exiting: it used to be left running.
+#[test]
+fn an_interrupted_validate_stops_its_candidate() {
+    let exe = env!("CARGO_BIN_EXE_validate");
+    let out = scratch("interrupted");
+    let mut child = Command::new(exe)
+        .args(["--candidate", "cmd:f() { sleep 37.25; }; f", "--level", "1"])
+        .args(["--model", "pipe", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while processes_with("sleep 37.25").is_empty() && start.elapsed().as_secs() < 20 {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    assert!(
+        !processes_with("sleep 37.25").is_empty(),
+        "the candidate started"
+    );
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    assert!(kill.unwrap().success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    assert_eq!(processes_with("sleep 37.25"), Vec::<String>::new());
+}
+
+/// `report --no-run` over the committed hopper-fig3 summary after `edit`:
+/// its exit code and its standard output and error together.
+fn report_over_edited_summary(
+    tag: &str,
+    edit: &dyn Fn(&str) -> String,
+    extra: &[&str],
+) -> (i32, String) {
+    let r = report_folder_with_hopper_fig3(&format!("malformed-{tag}"));
+    let path = r.join("hopper-fig3/summary.json");
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, edit(&text)).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_report"))
+        .args(["--no-run", "--only", "hopper-fig3", "--tier", "acceptance"])
+        .args(extra)
+        .arg("--out")
+        .arg(&r)
+        .output()
+        .unwrap();
+    let all = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    (o.status.code().unwrap_or(-1), all)
+}
+
+/// A summary.json that is truncated, empty, not JSON (NaN, 1e999), has no
+/// checks, a decided verdict without a value, an unknown verdict or kind,
+/// or is of another tier fails the figure (exit 1), naming what is wrong;
+/// it used to count as run, or as reproduced.
+#[test]
+fn report_refuses_malformed_summaries() {
+    let cases: Vec<(&str, Box<dyn Fn(&str) -> String>, &str)> = vec![
+        (
+            "truncated",
+            Box::new(|t| t[..t.len() / 2].to_string()),
+            "cannot read",
+        ),
+        ("empty", Box::new(|_| String::new()), "cannot read"),
+        (
+            "nan",
+            Box::new(|t| t.replacen("\"measured\": ", "\"measured\": NaN, \"x\": ", 1)),
+            "cannot read",
+        ),
+        (
+            "huge",
+            Box::new(|t| t.replacen("\"measured\": ", "\"measured\": 1e999, \"x\": ", 1)),
+            "cannot read",
+        ),
+        (
+            "no-checks",
+            Box::new(|t| t.replacen("\"checks\"", "\"chex\"", 1)),
+            "no `checks` field",
+        ),
+        (
+            "null-measured",
+            Box::new(|t| {
+                let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
+                let c = &mut v["checks"][0];
+                c["verdict"] = "reproduced".into();
+                c["measured"] = serde_json::Value::Null;
+                v.to_string()
+            }),
+            "`measured` is null",
+        ),
+        (
+            "bogus-verdict",
+            Box::new(|t| {
+                let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
+                v["checks"][0]["verdict"] = "bogus".into();
+                v.to_string()
+            }),
+            "`verdict` is \"bogus\"",
+        ),
+        (
+            "bogus-kind",
+            Box::new(|t| {
+                let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
+                v["checks"][0]["kind"] = "folklore".into();
+                v.to_string()
+            }),
+            "`kind` is \"folklore\"",
+        ),
+        (
+            "other-tier",
+            Box::new(|t| {
+                let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
+                v["tier"] = "paper".into();
+                v.to_string()
+            }),
+            "of the paper tier, this report's is acceptance",
+        ),
+    ];
+    for (tag, edit, want) in cases {
+        let (code, all) = report_over_edited_summary(tag, &*edit, &[]);
+        assert_eq!(code, 1, "{tag}: {all}");
+        assert!(
+            all.contains(want) && all.contains("hopper-fig3"),
+            "{tag}: {want:?} not in {all}"
+        );
+    }
+    let (code, all) = report_over_edited_summary("unedited", &|t| t.to_string(), &[]);
+    assert_eq!(code, 0, "{all}");
+}
+
+/// `report --seed-sets` refuses a copied seed set (it counted twice) and a
+/// seed set of another set-up, naming both folders.
+#[test]
+fn report_seed_sets_refuse_copies_and_mismatches() {
+    let sets = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("seed-set-copies");
+    let _ = std::fs::remove_dir_all(&sets);
+    let from = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/acceptance/hopper-fig3");
+    for e in std::fs::read_dir(&from).unwrap().flatten() {
+        if !e.path().join("summary.json").is_file() {
+            continue;
+        }
+        let to = sets.join("hopper-fig3").join(e.file_name());
+        std::fs::create_dir_all(&to).unwrap();
+        std::fs::copy(e.path().join("summary.json"), to.join("summary.json")).unwrap();
+    }
+    let extra = sets.join("hopper-fig3/seed-99");
+    std::fs::create_dir_all(&extra).unwrap();
+    let five = std::fs::read_to_string(from.join("seed-5/summary.json")).unwrap();
+    let seed_sets = ["--seed-sets", sets.to_str().unwrap()];
+    std::fs::write(extra.join("summary.json"), &five).unwrap();
+    let (_, all) = report_over_edited_summary("copied-set", &|t| t.to_string(), &seed_sets);
+    assert!(
+        all.contains("counts once") && all.contains("seed-99"),
+        "{all}"
+    );
+    let mut other: serde_json::Value = serde_json::from_str(&five).unwrap();
+    other["seeds"][0] = 7.into();
+    other["tier"] = "paper".into();
+    std::fs::write(extra.join("summary.json"), other.to_string()).unwrap();
+    let (_, all) = report_over_edited_summary("other-set-up", &|t| t.to_string(), &seed_sets);
+    assert!(
+        all.contains("share one set-up") && all.contains("tier paper"),
+        "{all}"
+    );
+}

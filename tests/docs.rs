@@ -238,3 +238,67 @@ fn no_file_sends_the_reader_outside_the_repository() {
         outside.join("\n")
     );
 }
+
+/// Whether `line` speaks of how the project was made: a numbered session
+/// (a session with its number) or the ones who steer it, in any case
+/// (the words are split here so that this file does not hold them).
+fn speaks_of_history(line: &str) -> bool {
+    let l = line.to_lowercase();
+    if l.contains(&["steer", "ing"].concat()) {
+        return true;
+    }
+    l.match_indices("session").any(|(i, _)| {
+        let rest = &l[i + "session".len()..];
+        let rest = rest.strip_prefix('s').unwrap_or(rest);
+        rest.strip_prefix(' ')
+            .is_some_and(|r| r.starts_with(|c: char| c.is_ascii_digit()))
+    })
+}
+
+#[test]
+fn the_history_detector_reads_numbered_sessions() {
+    // the words are split so that this file does not hold them
+    let (session, steer) = (["Sess", "ion"].concat(), ["Stee", "ring"].concat());
+    assert!(speaks_of_history(&format!("fixed in {session} 2")));
+    assert!(speaks_of_history(&format!("{session}s 2-3")));
+    assert!(speaks_of_history(&format!("a note to {steer}")));
+    assert!(!speaks_of_history(&format!("a {session} of the CLI")));
+    assert!(!speaks_of_history(&format!("{session}s-2-3")));
+}
+
+/// Every tracked text file describes the project, never how it was made:
+/// no numbered session and no word of those who steer it, in documents,
+/// code, comments or the committed outputs. History goes by date and commit (CHANGELOG.md,
+/// docs/notebook/).
+#[test]
+fn no_file_speaks_of_how_it_was_made() {
+    let mut files = vec![];
+    for ext in [
+        "md", "rs", "py", "sh", "log", "json", "html", "csv", "toml", "cff", "txt",
+    ] {
+        walk(&root(), ext, false, &mut files);
+        for dir in ["src", "reproduce", "tests", "docs", "golden", ".ci"] {
+            walk(&root().join(dir), ext, true, &mut files);
+        }
+    }
+    files.push(root().join(".ci/run"));
+    let mut found = vec![];
+    for f in files {
+        let Ok(text) = std::fs::read_to_string(&f) else {
+            continue;
+        };
+        for (i, line) in text.lines().enumerate() {
+            if speaks_of_history(line) {
+                found.push(format!(
+                    "{}:{}",
+                    f.strip_prefix(root()).unwrap().display(),
+                    i + 1
+                ));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "files that speak of how the project was made: {found:?}"
+    );
+}

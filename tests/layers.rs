@@ -1,6 +1,6 @@
 //! The imports of the library point one way: no module imports
 //! a module that imports it back, directly or around a circle, and every
-//! top-level module imports only the layers below it (docs/library.md
+//! top-level module imports only the layers below it (docs/explanation/library.md
 //! "Layers"); and every figure binary stays a short script.
 //!
 //! The test reads `src/` as text: the `use crate::…`, `use super::…` and
@@ -21,7 +21,7 @@ const LAYERS: [&[&str]; 9] = [
     &["hopper"],
     &["pipe"],
     &["validate", "cli"],
-    &["drivers", "report"],
+    &["drivers", "report", "experiments"],
     &["speed"],
 ];
 
@@ -321,7 +321,7 @@ fn the_parser_sees_a_circle_and_an_upward_import() {
 #[test]
 fn every_figure_binary_is_a_short_script() {
     // a binary holds its options, set-up, calls, checks and
-    // summary; procedures live in src/ (docs/library.md "Layers")
+    // summary; procedures live in src/ (docs/explanation/library.md "Layers")
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("reproduce");
     let mut long = Vec::new();
     for entry in std::fs::read_dir(dir).unwrap() {

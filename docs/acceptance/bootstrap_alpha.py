@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The default alpha of the averaged spectrum (MODEL.md A9: the largest
 contrast in 40..=1000 found again, its +-16 bins removed) with a bootstrap SE
-over runs instead of the delete-one jackknife (EXPERIMENTS.md "A line rule
-for the removed peak", session 24). The estimate contains an argmax, which is
+over runs instead of the delete-one jackknife (docs/notebook/
+2026-12-05-bootstrap-se-of-alpha.md, 2026-12-05). The estimate contains an argmax, which is
 not smooth in the data: the project already takes the bootstrap, not the
 jackknife, for the peak's velocity (src/analysis/mean_spectrum.rs, v_of_mean).
 Each resample finds its own peak, so the spread of where the removed bins

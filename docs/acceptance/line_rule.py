@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""The "line rule" reading of the averaged-spectrum alpha (EXPERIMENTS.md
-"A line rule for the removed peak", session 24), measured on saved runs
+"""The "line rule" reading of the averaged-spectrum alpha (docs/notebook/
+2026-12-05-bootstrap-se-of-alpha.md, 2026-12-05), measured on saved runs
 before any Rust estimator changes:
 
 - a line is present when the largest contrast of the averaged spectrum of n

@@ -373,7 +373,9 @@ fn seed_summaries(from: &std::path::Path, figure: &str) -> Result<Vec<std::path:
 /// `from/<seed folder>/summary.json`).
 ///
 /// Errors: an unreadable folder or summary ([`crate::ErrorKind::Io`],
-/// [`crate::ErrorKind::BadSeries`]), or no summary at all.
+/// [`crate::ErrorKind::BadSeries`]), no summary at all, two seed sets with
+/// the same runs (a copy), or seed sets of different tiers, readings or
+/// engines ([`crate::ErrorKind::InvalidParameter`]).
 fn seed_checks(from: &std::path::Path, figure: &str) -> Result<SeedChecks> {
     use crate::error::{Error, ErrorKind};
     let dirs = seed_summaries(from, figure)?;
@@ -381,11 +383,49 @@ fn seed_checks(from: &std::path::Path, figure: &str) -> Result<SeedChecks> {
     let mut rows: BTreeMap<String, Vec<(String, f64, f64)>> = BTreeMap::new();
     // check -> the claim of each seed (None: not a published claim)
     let mut stated: BTreeMap<String, Vec<Option<Claim>>> = BTreeMap::new();
+    let mut seen: Vec<(std::path::PathBuf, serde_json::Value)> = vec![];
+    let mut shared: Option<(std::path::PathBuf, String)> = None;
     for path in &dirs {
         let text = std::fs::read_to_string(path)
             .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", path.display())))?;
         let s: serde_json::Value = serde_json::from_str(&text)
             .map_err(|e| Error::new(ErrorKind::BadSeries, format!("{}: {e}", path.display())))?;
+        // every seed set has runs of its own, and all share one set-up
+        let set_up = |s: &serde_json::Value| {
+            let f = |k: &str| s[k].as_str().unwrap_or("unstated").to_string();
+            format!(
+                "tier {}, rules {}, engine {}",
+                f("tier"),
+                f("rules"),
+                f("engine")
+            )
+        };
+        if let Some((other, _)) = seen.iter().find(|(_, seeds)| *seeds == s["seeds"]) {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!(
+                    "{} has the runs (seeds) of {}: a seed set counts once; remove the copy",
+                    path.display(),
+                    other.display()
+                ),
+            ));
+        }
+        if let Some((first, first_set_up)) = &shared {
+            if set_up(&s) != *first_set_up {
+                return Err(Error::new(
+                    ErrorKind::InvalidParameter,
+                    format!(
+                        "{} is of {}, {} of {first_set_up}: the seed sets of a figure share one set-up",
+                        path.display(),
+                        set_up(&s),
+                        first.display()
+                    ),
+                ));
+            }
+        } else {
+            shared = Some((path.clone(), set_up(&s)));
+        }
+        seen.push((path.clone(), s["seeds"].clone()));
         for c in s["checks"].as_array().into_iter().flatten() {
             let claim = (c["kind"] == "published")
                 .then(|| serde_json::from_value::<Claim>(c["claim"].clone()).ok())

@@ -153,9 +153,9 @@ pub struct External {
     /// The wall-time limit of one run (`validate --run-timeout`); `None`:
     /// [`default_time_limit`] of its plan.
     pub time_limit: Option<Duration>,
-    /// The error of the first run that stalled: every later run fails with
-    /// it at once, so that a level stops within about one limit instead of
-    /// waiting out the limit of each of its runs.
+    /// The error of the first run that stalled or broke the contract:
+    /// every later run fails with it at once, so that a level stops within
+    /// about one limit instead of waiting out the limit of each of its runs.
     pub stalled: std::sync::Arc<std::sync::OnceLock<String>>,
 }
 
@@ -180,12 +180,62 @@ pub fn default_time_limit(plan: &RunPlan) -> Duration {
     Duration::from_secs_f64(60.0 + 1e-5 * updates)
 }
 
+/// The process groups of the external candidates running now, so that an
+/// interrupted `validate` stops them too ([`running::kill_all`]).
+pub mod running {
+    use std::collections::BTreeSet;
+    use std::sync::Mutex;
+
+    static GROUPS: Mutex<BTreeSet<u32>> = Mutex::new(BTreeSet::new());
+
+    /// A candidate's process group started.
+    pub fn add(pid: u32) {
+        GROUPS.lock().unwrap_or_else(|e| e.into_inner()).insert(pid);
+    }
+
+    /// It ended (or was stopped).
+    pub fn remove(pid: u32) {
+        GROUPS
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .remove(&pid);
+    }
+
+    /// Stop every running candidate's process group (SIGKILL to the group).
+    pub fn kill_all() {
+        let groups = GROUPS.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        for pid in groups {
+            let _ = std::process::Command::new("kill")
+                .args(["-KILL", "--", &format!("-{pid}")])
+                .status();
+        }
+    }
+}
+
 /// Read all of `r` in a thread of its own (a program's stdout or stderr,
 /// so that a full pipe never blocks it).
 fn read_all<R: Read + Send + 'static>(mut r: R) -> std::thread::JoinHandle<Vec<u8>> {
     std::thread::spawn(move || {
         let mut v = Vec::new();
         let _ = r.read_to_end(&mut v);
+        v
+    })
+}
+
+/// Read at most `cap` bytes of `r` in a thread of its own; past the cap it
+/// sends the byte count on `over` (so the program can be stopped) and
+/// reads no more. Returns what was read.
+fn read_capped<R: Read + Send + 'static>(
+    r: R,
+    cap: u64,
+    over: std::sync::mpsc::Sender<()>,
+) -> std::thread::JoinHandle<Vec<u8>> {
+    std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = r.take(cap + 1).read_to_end(&mut v);
+        if v.len() as u64 > cap {
+            let _ = over.send(());
+        }
         v
     })
 }
@@ -211,7 +261,20 @@ impl Candidate for External {
                 plan.seed, plan.steps, plan.params.length, plan.params.width, plan.every
             )
         };
-        let text = self.call("run", json, limit, &what)?;
+        // a sample line lists its bins and counts (and its sites, if asked)
+        let sites = if plan.sites {
+            plan.params.sites() as usize
+        } else {
+            0
+        };
+        let max_line = 4096 + 32 * plan.params.bins() + 32 * sites;
+        let text = self.call(
+            "run",
+            json,
+            limit,
+            &what,
+            (max_line, plan.steps / plan.every),
+        )?;
         let samples: Vec<Sample> = text
             .lines()
             .enumerate()
@@ -220,35 +283,48 @@ impl Candidate for External {
             .map(|(i, (n, l))| {
                 read_sample(plan, i, l).map_err(|why| {
                     let what = format!("line {} {why}; the line reads: {}", n + 1, excerpt(l));
-                    external_error(&self.command, &what)
+                    self.broke(&what)
                 })
             })
             .collect::<Result<_>>()?;
         let want = plan.steps / plan.every;
         if samples.len() as u64 != want {
-            return Err(external_error(
-                &self.command,
-                &format!(
-                    "printed {} samples, the plan asks for {want}",
-                    samples.len()
-                ),
-            ));
+            return Err(self.broke(&format!(
+                "printed {} samples, the plan asks for {want}",
+                samples.len()
+            )));
         }
         Ok(samples)
     }
 }
 
 impl External {
+    /// The error of a run that broke the contract; it is kept, so that
+    /// every later run of this candidate fails with it at once (a level
+    /// stops at its first bad run instead of running all of them).
+    fn broke(&self, what: &str) -> Error {
+        let _ = self.stalled.set(what.to_string());
+        external_error(
+            &self.command,
+            self.stalled.get().map_or(what, |s| s.as_str()),
+        )
+    }
+
     /// Start the program as `sh -c 'COMMAND "$@"' sh MODE --plan -`, write
     /// `json` on its stdin, and return its stdout; stop it after `limit`
     /// (its plan described by `what` in the error) and fail every later
     /// call at once.
+    /// Its output is capped at `max_lines` lines of at most `max_line`
+    /// bytes each (what the plan asks for, with room): a program that
+    /// prints more is stopped and named, and a longer line is refused, so a
+    /// runaway program never fills the memory of `validate`.
     pub(crate) fn call(
         &self,
         mode: &str,
         json: String,
         limit: Duration,
         what: &dyn Fn() -> String,
+        (max_line, max_lines): (usize, u64),
     ) -> Result<String> {
         if let Some(first) = self.stalled.get() {
             return Err(external_error(&self.command, first));
@@ -270,21 +346,45 @@ impl External {
         // (EPIPE): what it printed says more than "Broken pipe"
         let mut stdin = child.stdin.take().expect("stdin is piped");
         let writer = std::thread::spawn(move || stdin.write_all(json.as_bytes()));
-        let stdout = read_all(child.stdout.take().expect("stdout is piped"));
+        let cap = (max_lines + 2).saturating_mul(max_line as u64 + 1);
+        let (over_tx, over_rx) = std::sync::mpsc::channel();
+        let stdout = read_capped(child.stdout.take().expect("stdout is piped"), cap, over_tx);
         let stderr = read_all(child.stderr.take().expect("stderr is piped"));
         // wait in a thread of its own, so that the limit needs no polling
         let pid = child.id();
+        running::add(pid);
         let (tx, rx) = std::sync::mpsc::channel();
         std::thread::spawn(move || tx.send(child.wait()));
-        let status = match rx.recv_timeout(limit) {
-            Ok(done) => {
+        let kill = || {
+            let _ = Command::new("kill")
+                .args(["-KILL", "--", &format!("-{pid}")])
+                .status();
+        };
+        let deadline = std::time::Instant::now() + limit;
+        let waited = loop {
+            let left = deadline.saturating_duration_since(std::time::Instant::now());
+            match rx.recv_timeout(left.min(Duration::from_millis(50))) {
+                Ok(done) => break Some(done),
+                Err(_) if over_rx.try_recv().is_ok() => {
+                    kill();
+                    running::remove(pid);
+                    return Err(self.broke(&format!(
+                        "printed more than {cap} bytes, more than its plan asks for ({max_lines} lines of at most {max_line} bytes), and was stopped: {}",
+                        what()
+                    )));
+                }
+                Err(_) if left.is_zero() => break None,
+                Err(_) => {}
+            }
+        };
+        running::remove(pid);
+        let status = match waited {
+            Some(done) => {
                 done.map_err(|e| external_error(&self.command, &format!("did not finish: {e}")))?
             }
-            Err(_) => {
+            None => {
                 // the whole process group: `sh` and what it started
-                let _ = Command::new("kill")
-                    .args(["-KILL", "--", &format!("-{pid}")])
-                    .status();
+                kill();
                 let what = format!(
                     "did not finish its run within the time limit of {:.1} s and was stopped: {} (set the limit with --run-timeout)",
                     limit.as_secs_f64(),
@@ -300,6 +400,25 @@ impl External {
             stdout: stdout.join().expect("the stdout reader does not panic"),
             stderr: stderr.join().expect("the stderr reader does not panic"),
         };
+        if out.stdout.len() as u64 > cap {
+            return Err(self.broke(&format!(
+                "printed more than {cap} bytes, more than its plan asks for ({max_lines} lines of at most {max_line} bytes): {}",
+                what()
+            )));
+        }
+        if let Some((n, l)) = out
+            .stdout
+            .split(|&b| b == b'\n')
+            .enumerate()
+            .find(|(_, l)| l.len() > max_line)
+        {
+            return Err(self.broke(&format!(
+                "printed line {} of {} bytes, longer than the {max_line} its plan allows: {}",
+                n + 1,
+                l.len(),
+                what()
+            )));
+        }
         let text = String::from_utf8_lossy(&out.stdout);
         let printed = || match text.trim() {
             "" => "nothing on stdout".to_string(),
@@ -307,24 +426,18 @@ impl External {
         };
         if !out.status.success() {
             let err = String::from_utf8_lossy(&out.stderr);
-            return Err(external_error(
-                &self.command,
-                &format!(
-                    "exited with {}: {}; it printed {}",
-                    out.status,
-                    err.trim(),
-                    printed()
-                ),
-            ));
+            return Err(self.broke(&format!(
+                "exited with {}: {}; it printed {}",
+                out.status,
+                err.trim(),
+                printed()
+            )));
         }
         if let Err(e) = sent {
-            return Err(external_error(
-                &self.command,
-                &format!(
-                    "did not read the plan on stdin ({e}) and printed {}",
-                    printed()
-                ),
-            ));
+            return Err(self.broke(&format!(
+                "did not read the plan on stdin ({e}) and printed {}",
+                printed()
+            )));
         }
         Ok(text.into_owned())
     }
@@ -380,6 +493,7 @@ fn read_sample(plan: &RunPlan, i: usize, line: &str) -> std::result::Result<Samp
     let channels: [u64; 7] = s.channels.try_into().map_err(|c: Vec<u64>| {
         format!("has {} channel counts, the contract asks for 7", c.len())
     })?;
+    check_identity(&s.bins, &channels)?;
     let flux: [u64; 3] = s.flux.try_into().map_err(|f: Vec<u64>| {
         format!(
             "has {} flux counts, the contract asks for 3 (injected, out at the bottom, out at the top)",
@@ -408,6 +522,29 @@ fn read_sample(plan: &RunPlan, i: usize, line: &str) -> std::result::Result<Samp
         flux,
         sites,
     })
+}
+
+/// The contract's identity on every sample: a bin holds a whole number of
+/// particles, and the bins together hold every particle, the sum of the
+/// seven channel counts (MODEL.md A9). A candidate whose bins are shifted
+/// or scaled breaks it, however well its series match in distribution.
+pub fn check_identity(bins: &[f64], channels: &[u64; 7]) -> std::result::Result<(), String> {
+    if let Some((k, v)) = bins
+        .iter()
+        .enumerate()
+        .find(|(_, v)| v.fract() != 0.0 || !v.is_finite())
+    {
+        return Err(format!(
+            "has bin {k} = {v}, not a whole number of particles"
+        ));
+    }
+    let (in_bins, in_channels) = (bins.iter().sum::<f64>(), channels.iter().sum::<u64>());
+    if in_bins != in_channels as f64 {
+        return Err(format!(
+            "has bins summing to {in_bins} particles but channel counts summing to {in_channels}: the bins must hold every particle"
+        ));
+    }
+    Ok(())
 }
 
 fn external_error(cmd: &str, what: &str) -> Error {

@@ -296,7 +296,11 @@ impl Proxy {
                 self.geometry.height()
             )
         };
-        let text = self.ext.call("hopper", json, limit, &what)?;
+        // a line per iteration; the end line lists the state, site by site
+        let max_line = 4096 + 64 * self.state.sites.len();
+        let text = self
+            .ext
+            .call("hopper", json, limit, &what, (max_line, iterations + 2))?;
         Ok(text
             .lines()
             .filter(|l| !l.trim().is_empty())

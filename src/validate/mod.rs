@@ -177,6 +177,10 @@ pub struct Report {
     /// Every level run passed (a hopper the candidate does not provide is
     /// not run: the verdict then covers the pipe only).
     pub pass: bool,
+    /// Why the validation stopped before its verdicts, when the candidate
+    /// broke the contract or its series cannot be analysed: a FAIL.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failure: Option<String>,
 }
 
 /// The hopper part of a report (VALIDATION.md "Hopper").
@@ -262,16 +266,57 @@ impl Plan<'static> {
 /// finished job (progress). Asking for the hopper alone of a candidate
 /// without one is an error.
 pub fn validate(cand: &dyn Candidate, plan: &Plan, tick: &(dyn Fn() + Sync)) -> Result<Report> {
-    let (rules, levels, model, tier) = (plan.rules, plan.levels, plan.model, plan.tier);
+    let (rules, model, tier) = (plan.rules, plan.model, plan.tier);
     let (size, seed) = (plan.size, plan.seed);
     let start = std::time::Instant::now();
     let _: Rules = rules.parse()?;
     check_model(cand, model)?;
     let params = Params::default();
+    let mut report = Report {
+        candidate: cand.name(),
+        rules: rules.parse::<Rules>()?.to_string(),
+        tier,
+        seed,
+        params,
+        size,
+        level1: None,
+        level2: None,
+        model,
+        hopper: None,
+        wall_seconds: 0.0,
+        pass: false,
+        failure: None,
+    };
+    if let Err(e) = run_levels(cand, plan, &mut report, tick) {
+        report.failure = Some(e.message);
+    }
+    report.pass = report.failure.is_none()
+        && report.level1.as_ref().is_none_or(|l| l.pass)
+        && report.level2.as_ref().is_none_or(|l| l.pass)
+        && report.hopper.as_ref().is_none_or(|h| {
+            !h.provided
+                || (h.level1.as_ref().is_none_or(|l| l.pass)
+                    && h.level2.as_ref().is_none_or(|l| l.pass))
+        });
+    report.wall_seconds = start.elapsed().as_secs_f64();
+    Ok(report)
+}
+
+/// The levels of `plan` into `report`, in order; the first error (the
+/// candidate broke the contract, or a series of its cannot be analysed)
+/// stops the validation, keeping the levels already done.
+fn run_levels(
+    cand: &dyn Candidate,
+    plan: &Plan,
+    report: &mut Report,
+    tick: &(dyn Fn() + Sync),
+) -> Result<()> {
+    let (rules, levels, model, tier) = (plan.rules, plan.levels, plan.model, plan.tier);
+    let (size, seed, params) = (plan.size, plan.seed, report.params);
     let one = levels != Level::Two;
     let two = levels != Level::One;
-    let level1 = if model.pipe() && one {
-        Some(conformance::level1(
+    if model.pipe() && one {
+        report.level1 = Some(conformance::level1(
             cand,
             &params,
             rules,
@@ -279,50 +324,24 @@ pub fn validate(cand: &dyn Candidate, plan: &Plan, tick: &(dyn Fn() + Sync)) -> 
             seed,
             ALPHA,
             tick,
-        )?)
-    } else {
-        None
-    };
-    let level2 = if model.pipe() && two {
+        )?);
+    }
+    if model.pipe() && two {
         let sampling = scenes::Sampling::new(size.runs, seed, ALPHA)?;
         let reference = Builtin(Reference);
         let engines = (&reference as &dyn Candidate, cand);
-        Some(scenes::level2(
+        report.level2 = Some(scenes::level2(
             engines,
             &scenes::scenes(tier),
             rules,
             sampling,
             tick,
-        )?)
-    } else {
-        None
-    };
-    let hopper = if model.hopper() {
-        Some(hopper_part(cand, plan, tick)?)
-    } else {
-        None
-    };
-    let pass = level1.as_ref().is_none_or(|l| l.pass)
-        && level2.as_ref().is_none_or(|l| l.pass)
-        && hopper.as_ref().is_none_or(|h| {
-            !h.provided
-                || (h.level1.as_ref().is_none_or(|l| l.pass)
-                    && h.level2.as_ref().is_none_or(|l| l.pass))
-        });
-    Ok(Report {
-        candidate: cand.name(),
-        rules: rules.parse::<Rules>()?.to_string(),
-        tier,
-        seed,
-        params,
-        size,
-        level1,
-        level2,
-        model,
-        hopper,
-        wall_seconds: start.elapsed().as_secs_f64(),
-        pass,
-    })
+        )?);
+    }
+    if model.hopper() {
+        report.hopper = Some(hopper_part(cand, plan, tick)?);
+    }
+    Ok(())
 }
 
 /// The hopper's part of [`validate`].
@@ -411,6 +430,11 @@ pub fn markdown(r: &Report) -> String {
         r.wall_seconds,
         verdict(r.pass)
     );
+    if let Some(f) = &r.failure {
+        s.push_str(&format!(
+            "The validation stopped: {f}. The candidate fails; the levels below are those done before.\n\n"
+        ));
+    }
     if let Some(l) = &r.level1 {
         s.push_str(&format!(
             "## Level 1: rule conformance — {}\n\n{} probes x 128 states, {} trials each; {} exact binomial tests, Bonferroni family-wise false-alarm rate {} (an outcome the reference cannot produce fails outright).\n\n",
@@ -490,6 +514,9 @@ pub fn summary_lines(r: &Report, dir: &std::path::Path) -> Vec<String> {
         if let Some(l) = &h.level2 {
             lines.push(level2("hopper level 2", l));
         }
+    }
+    if let Some(f) = &r.failure {
+        lines.push(format!("stopped: {f}"));
     }
     lines.push(format!(
         "{}: {} ({:.1} s); report in {}",

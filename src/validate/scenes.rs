@@ -235,7 +235,20 @@ pub fn run_scenes(
                     init: None,
                     sites: false,
                 };
-                let o = observables(sc, &cand.run(&plan)?);
+                let samples = cand.run(&plan)?;
+                for s in &samples {
+                    super::candidate::check_identity(&s.bins, &s.channels).map_err(|why| {
+                        crate::Error::new(
+                            crate::ErrorKind::Io,
+                            format!(
+                                "candidate `{}`: its sample at t = {} {why}",
+                                cand.name(),
+                                s.t
+                            ),
+                        )
+                    })?;
+                }
+                let o = observables(sc, &samples);
                 tick();
                 o
             });

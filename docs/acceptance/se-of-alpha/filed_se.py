@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """SD of the seeds' values over RMS SE, and the coverage of +-2 SE, of the
 alpha SEs filed in docs/acceptance (the SE each summary states), for
-EXPERIMENTS.md "The SE of alpha when the removed peak moves" (session 24).
+docs/notebook/2026-12-05-bootstrap-se-of-alpha.md (2026-12-05).
 Run from the repository root. Needs numpy."""
 import json,glob,numpy as np,sys
 def stats(pairs):
