@@ -708,8 +708,73 @@ impl Output {
         for c in &summary.checks {
             println!("{}", c.line());
         }
+        if !summary.tier.is_acceptance() {
+            if let Some(line) = at_published_set_up(&summary.figure) {
+                println!("{line}");
+            }
+        }
         Ok(path)
     }
+}
+
+/// Where the committed report lies (its report.json holds the verdicts at
+/// the published set-ups).
+const COMMITTED_REPORT: &str = "docs/report";
+
+/// The line a run below the published set-up ends with: the committed
+/// verdicts of figure `binary`'s published claims at the published set-up
+/// (default reading; over the committed seed sets where it has them), where
+/// they are recorded, and the command that recomputes them. `None` when the
+/// committed report is not at hand (an installed binary) or has no claim
+/// of the figure.
+pub fn at_published_set_up(binary: &str) -> Option<String> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(COMMITTED_REPORT)
+        .join("report.json");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
+    let claims: Vec<String> = report["rows"]
+        .as_array()?
+        .iter()
+        .filter(|r| r["binary"] == binary && r["kind"] == "published" && r["reading"].is_null())
+        .map(|r| {
+            let (at, n) = match r["seed_sets"].is_object() {
+                true => (
+                    &r["seed_sets"],
+                    format!("{} seed sets", r["seed_sets"]["seeds"]),
+                ),
+                false => (r, format!("{} runs", r["runs"])),
+            };
+            let value = match (at["measured"].as_f64(), at["error"].as_f64()) {
+                (Some(m), Some(e)) => format!("{m:.4} +- {e:.4}"),
+                (Some(m), None) => format!("{m:.4}"),
+                _ => "no value".into(),
+            };
+            let verdict = at["verdict"]
+                .as_str()
+                .unwrap_or("undecided")
+                .replace('-', " ");
+            format!(
+                "{} {value} ({n}), {verdict}",
+                r["name"].as_str().unwrap_or("?")
+            )
+        })
+        .collect();
+    if claims.is_empty() {
+        return None;
+    }
+    let shown = if claims.len() <= 3 {
+        claims.join("; ")
+    } else {
+        format!(
+            "{} published claims (listed in {COMMITTED_REPORT}/REPORT.md)",
+            claims.len()
+        )
+    };
+    Some(format!(
+        "at the published set-up (default reading): {shown} ({COMMITTED_REPORT}/REPORT.md); this tier is a smoke test, \
+         `report --tier acceptance --only {binary} --seed-sets docs/acceptance` recomputes it"
+    ))
 }
 
 /// CPU seconds this process has used so far, all threads together (the

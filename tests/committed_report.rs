@@ -226,3 +226,20 @@ fn experiments_md_regenerates_from_committed_files() {
         granular_automata::experiments::NOTES
     );
 }
+
+/// A run below the published set-up ends with the committed verdicts at
+/// the published set-up: PH94 Fig. 2's alpha, not reproduced over its seed
+/// sets, whatever the quick tier's own few runs say.
+#[test]
+fn a_quick_run_says_what_the_published_set_up_decided() {
+    let line = granular_automata::run::at_published_set_up("fig2").unwrap();
+    assert!(
+        line.contains("alpha 1.2634 +- 0.0026 (20 seed sets), not reproduced"),
+        "{line}"
+    );
+    assert!(
+        line.contains("--only fig2") && line.contains("smoke test"),
+        "{line}"
+    );
+    assert!(granular_automata::run::at_published_set_up("no-such-figure").is_none());
+}
