@@ -400,7 +400,11 @@ fn seed_checks(from: &std::path::Path, figure: &str) -> Result<SeedChecks> {
                 f("engine")
             )
         };
-        if let Some((other, _)) = seen.iter().find(|(_, seeds)| *seeds == s["seeds"]) {
+        let listed = s["seeds"].as_array().is_some_and(|a| !a.is_empty());
+        if let Some((other, _)) = seen
+            .iter()
+            .find(|(_, seeds)| listed && *seeds == s["seeds"])
+        {
             return Err(Error::new(
                 ErrorKind::InvalidParameter,
                 format!(
