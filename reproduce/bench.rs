@@ -27,9 +27,7 @@ struct Args {
     engines: String,
 }
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
@@ -41,6 +39,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         .split(',')
         .map(|s| s.trim().parse())
         .collect::<Result<_, _>>()?;
+    granular_automata::error::reject_duplicates("--engines", &engines)?;
     for length in [220usize, 2200] {
         let params = Params {
             length,

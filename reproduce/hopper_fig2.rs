@@ -28,9 +28,7 @@ struct Args {
     cases: String,
 }
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> granular_automata::Result<()> {
     let args = Args::parse();

@@ -47,9 +47,7 @@ struct Args {
     groups: String,
 }
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
@@ -64,6 +62,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         .split(',')
         .map(|s| s.trim().parse())
         .collect::<Result<_, _>>()?;
+    granular_automata::error::reject_duplicates("--readings", &readings)?;
     let out = Output::new(&args.common.out, "pipe-matrix")?;
     let cache = out.path("variants");
     std::fs::create_dir_all(&cache)?;

@@ -7,7 +7,7 @@
 use clap::Parser;
 use granular_automata::cli::{parse_count, parse_real};
 use granular_automata::pipe::Rules;
-use granular_automata::run::{progress, write_atomic, Output, Tier};
+use granular_automata::run::{progress, Output, Tier};
 use granular_automata::validate::candidate::Candidate;
 use granular_automata::validate::conformance::{MAX_TRIALS, MIN_TRIALS};
 use granular_automata::validate::repeat::Repeat;
@@ -76,12 +76,7 @@ struct Args {
 /// candidate fails or cannot be run.
 fn main() {
     let args = Args::parse();
-    // an interrupted validation stops the external candidate it is running
-    // (its own process group) before it exits
-    let _ = ctrlc::set_handler(|| {
-        granular_automata::validate::candidate::running::kill_all();
-        std::process::exit(130);
-    });
+    granular_automata::validate::candidate::running::stop_on_interrupt();
     let setup = usage(&args).unwrap_or_else(|e| {
         eprintln!("Error: {e:?}");
         std::process::exit(2)
@@ -148,15 +143,6 @@ fn run(args: &Args, setup: Setup) -> Result<bool, Box<dyn std::error::Error>> {
     let pb = progress(validate::jobs(levels, model, tier, size), "validate");
     let report = validate::validate(cand.as_ref(), &plan, &|| pb.inc(1))?;
     pb.finish_and_clear();
-    let md = validate::markdown(&report);
-    write_atomic(&out.path("report.md"), md.as_bytes())?;
-    let json = serde_json::to_string_pretty(&report)?;
-    write_atomic(&out.path("report.json"), json.as_bytes())?;
-    for line in validate::summary_lines(&report, out.dir()) {
-        println!("{line}");
-    }
-    if let Some(f) = &report.failure {
-        eprintln!("validate: {} FAILS: {f}", report.candidate);
-    }
+    validate::write_report(&report, &out)?;
     Ok(report.pass)
 }

@@ -12,9 +12,7 @@ use plotters::prelude::{RGBColor, SeriesLabelPosition};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

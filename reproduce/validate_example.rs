@@ -17,9 +17,7 @@ use granular_automata::validate::{candidate, external_hopper};
 /// How to call it (printed by `--help`, and with a usage error).
 const USAGE: &str = "usage: validate-example [--mutant NAME] run --plan - (a RunPlan as JSON on stdin) or validate-example [--mutant NAME] hopper --plan - (a HopperPlan)";
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -16,9 +16,7 @@ use granular_automata::drivers::sweep::{
 use granular_automata::pipe::Params;
 use serde_json::json;
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = PipeArgs::parse_about(

@@ -46,9 +46,7 @@ const EVERY: u64 = FIG11_CORR.every;
 const SKIP: usize = FIG11_CORR.skip;
 const T_MAX: usize = FIG11_CORR.t_max;
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();

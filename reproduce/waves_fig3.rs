@@ -36,9 +36,7 @@ struct Args {
 
 const EARLY: u64 = RELAXATION_EARLY;
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
@@ -62,6 +60,18 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         return Ok(());
     };
     let out = fig.output(&c.out)?;
+    ens.check_lengths(
+        "contrast",
+        results.len(),
+        |k| results[k].contrast.len(),
+        times.len(),
+    )?;
+    ens.check_lengths(
+        "energy_loss",
+        results.len(),
+        |k| results[k].energy_loss.len(),
+        times.len(),
+    )?;
 
     // analysis
     let tf: Vec<f64> = times.iter().map(|&t| t as f64).collect();

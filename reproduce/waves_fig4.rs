@@ -40,9 +40,7 @@ struct Args {
 const T0: u64 = FIELDS_EVERY;
 const BIN: usize = FIG4_BIN;
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();

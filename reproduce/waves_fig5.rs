@@ -37,9 +37,7 @@ const T0: u64 = FIELDS_EVERY;
 const MAX_LAG: usize = FIG5_MAX_LAG;
 const BIN: usize = FIG5_BIN;
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();

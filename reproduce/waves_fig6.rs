@@ -8,9 +8,7 @@ use granular_automata::drivers::margins::ALPHA_MARGIN;
 use granular_automata::drivers::spectra::SpectrumFigure;
 use granular_automata::pipe::Params;
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = PipeArgs::parse_about("PH95 Fig. 6: density spectrum at p = 0.8 (alpha about 1.33)");

@@ -16,9 +16,7 @@ use granular_automata::run::{mark_discrepancies, run_seeds, Output, Summary};
 use serde_json::json;
 use std::time::Instant;
 
-fn main() {
-    granular_automata::cli::exit_on_error(env!("CARGO_BIN_NAME"), body);
-}
+granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = PipeArgs::parse_about(

@@ -211,6 +211,17 @@ where
     }
 }
 
+/// The `main` of a binary whose work is the function `$body`: it runs it
+/// through [`exit_on_error`] under the binary's name.
+#[macro_export]
+macro_rules! main_of {
+    ($body:ident) => {
+        fn main() {
+            $crate::cli::exit_on_error(env!("CARGO_BIN_NAME"), $body);
+        }
+    };
+}
+
 impl PipeRules {
     /// Parse the rules; `help` prints the known names and exits.
     pub fn parse(&self) -> crate::Result<Rules> {

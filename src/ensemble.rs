@@ -332,6 +332,33 @@ impl Ensemble {
         self.dir.join(format!("run-{index:05}.json"))
     }
 
+    /// Check that series `name` of every run has `want` samples, as the
+    /// run's schedule asks: a run file that passes its checksum but was
+    /// written (or re-sealed) with another series would otherwise break the
+    /// analysis. `len(k)` is the length in run k.
+    ///
+    /// Errors: the first run whose series is of another length, naming its
+    /// file ([`ErrorKind::Io`]).
+    pub fn check_lengths(
+        &self,
+        name: &str,
+        runs: usize,
+        len: impl Fn(usize) -> usize,
+        want: usize,
+    ) -> Result<()> {
+        match (0..runs).find(|&k| len(k) != want) {
+            None => Ok(()),
+            Some(k) => Err(Error::new(
+                ErrorKind::Io,
+                format!(
+                    "{}: its `{name}` series has {} samples, the run's schedule asks for {want}; delete the file to redo that run",
+                    self.run_path(k).display(),
+                    len(k)
+                ),
+            )),
+        }
+    }
+
     /// Indices of the runs whose files exist.
     pub fn finished(&self) -> Vec<usize> {
         (0..self.runs)
@@ -643,6 +670,8 @@ fn foreign_run(
 /// without `--shard` on `into` finds every run finished and only analyses.
 pub fn merge(into: &Path, from: &[PathBuf]) -> Result<MergeReport> {
     let mut report = MergeReport::default();
+    let named: Vec<String> = from.iter().map(|p| p.display().to_string()).collect();
+    crate::error::reject_duplicates("merge: shard folder", &named)?;
     // 1. verify and plan: (destination, bytes) of every new file
     let mut plan: Vec<(PathBuf, Vec<u8>)> = Vec::new();
     // the configuration key of every run folder whose config.json was read

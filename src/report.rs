@@ -722,6 +722,13 @@ pub fn read_figure(out: &Path, run: FigureRun) -> (FigureReport, Vec<Row>) {
             return (fr, vec![]);
         }
     };
+    // files an earlier run left, which this summary's run did not write
+    let stale: Vec<&str> = s["stale_files"]
+        .as_array()
+        .map(|a| a.iter().filter_map(Value::as_str).collect())
+        .unwrap_or_default();
+    fr.pngs.retain(|f| !stale.contains(&f.as_str()));
+    fr.csvs.retain(|f| !stale.contains(&f.as_str()));
     fr.paper = s["paper"].as_str().unwrap_or(&fr.run.binary).to_string();
     fr.tier = s["tier"].as_str().unwrap_or("").to_string();
     fr.rules = s["rules"].as_str().unwrap_or("").to_string();

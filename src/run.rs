@@ -360,7 +360,10 @@ impl Check {
     /// The measured value and its standard error as text: `m +- e`, or
     /// `no value` when there is none (e.g. no valid run), never `NaN`.
     pub fn value_text(&self) -> String {
-        if self.measured.is_finite() && self.error.is_finite() {
+        if self.measured.is_finite() && self.runs == 1 {
+            // one run has no spread: its error bar is not 0, it is unknown
+            format!("{:.4} (no standard error: one run)", self.measured)
+        } else if self.measured.is_finite() && self.error.is_finite() {
             format!("{:.4} +- {:.4}", self.measured, self.error)
         } else if self.measured.is_finite() {
             format!("{:.4} (no standard error)", self.measured)
@@ -583,10 +586,13 @@ pub fn stat_metrics<S: AsRef<str>>(
         .collect()
 }
 
-/// The output folder of one figure binary: `DIR/<binary>/`.
+/// The output folder of one figure binary: `DIR/<binary>/`. It remembers
+/// the files it was asked for ([`Output::path`]), so that PNGs and CSVs
+/// left by an earlier run of other options are named as stale.
 #[derive(Debug, Clone)]
 pub struct Output {
     dir: PathBuf,
+    named: std::sync::Arc<std::sync::Mutex<std::collections::BTreeSet<String>>>,
 }
 
 impl Output {
@@ -602,12 +608,35 @@ impl Output {
                 ),
             )
         })?;
-        Ok(Output { dir })
+        Ok(Output {
+            dir,
+            named: Default::default(),
+        })
     }
 
     /// Path of a file inside the output folder.
     pub fn path(&self, name: &str) -> PathBuf {
+        self.named
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(name.to_string());
         self.dir.join(name)
+    }
+
+    /// The PNG and CSV files in the folder that this run did not write:
+    /// left by an earlier run (e.g. one without `--correlation-only`).
+    pub fn stale_files(&self) -> Vec<String> {
+        let named = self.named.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let mut stale: Vec<String> = fs::read_dir(&self.dir)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .filter(|e| e.path().is_file())
+            .filter_map(|e| e.file_name().into_string().ok())
+            .filter(|n| (n.ends_with(".png") || n.ends_with(".csv")) && !named.contains(n))
+            .collect();
+        stale.sort();
+        stale
     }
 
     /// The output folder.
@@ -688,7 +717,13 @@ impl Output {
             Error::new(ErrorKind::Io, format!("cannot serialise summary: {e}"))
         };
         let mut value = serde_json::to_value(summary).map_err(serialise)?;
+        let stale = self.stale_files();
         if let serde_json::Value::Object(fields) = &mut value {
+            // files of an earlier run with other options: named, kept, and
+            // left out of the report
+            if !stale.is_empty() {
+                fields.insert("stale_files".into(), stale.clone().into());
+            }
             // CPU time of this invocation, all threads (like wall_seconds,
             // runs resumed from saved files cost nothing here); left out
             // when the system cannot tell it
@@ -707,6 +742,12 @@ impl Output {
         }
         for c in &summary.checks {
             println!("{}", c.line());
+        }
+        if !stale.is_empty() {
+            println!(
+                "not written by this run, left from an earlier one (summary.json stale_files; the report leaves them out): {}",
+                stale.join(", ")
+            );
         }
         if !summary.tier.is_acceptance() {
             if let Some(line) = at_published_set_up(&summary.figure) {
@@ -733,27 +774,38 @@ pub fn at_published_set_up(binary: &str) -> Option<String> {
         .join("report.json");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
-    let claims: Vec<String> = report["rows"]
+    let rows: Vec<&serde_json::Value> = report["rows"]
         .as_array()?
         .iter()
         .filter(|r| r["binary"] == binary && r["kind"] == "published" && r["reading"].is_null())
+        .collect();
+    let verdict_of = |r: &serde_json::Value| {
+        let at = if r["seed_sets"].is_object() {
+            &r["seed_sets"]
+        } else {
+            r
+        };
+        at["verdict"]
+            .as_str()
+            .unwrap_or("undecided")
+            .replace('-', " ")
+    };
+    let claims: Vec<String> = rows
+        .iter()
         .map(|r| {
             let (at, n) = match r["seed_sets"].is_object() {
                 true => (
                     &r["seed_sets"],
                     format!("{} seed sets", r["seed_sets"]["seeds"]),
                 ),
-                false => (r, format!("{} runs", r["runs"])),
+                false => (*r, format!("{} runs", r["runs"])),
             };
             let value = match (at["measured"].as_f64(), at["error"].as_f64()) {
                 (Some(m), Some(e)) => format!("{m:.4} +- {e:.4}"),
                 (Some(m), None) => format!("{m:.4}"),
                 _ => "no value".into(),
             };
-            let verdict = at["verdict"]
-                .as_str()
-                .unwrap_or("undecided")
-                .replace('-', " ");
+            let verdict = verdict_of(r);
             format!(
                 "{} {value} ({n}), {verdict}",
                 r["name"].as_str().unwrap_or("?")
@@ -766,9 +818,13 @@ pub fn at_published_set_up(binary: &str) -> Option<String> {
     let shown = if claims.len() <= 3 {
         claims.join("; ")
     } else {
+        let count = |v: &str| rows.iter().filter(|r| verdict_of(r) == v).count();
         format!(
-            "{} published claims (listed in {COMMITTED_REPORT}/REPORT.md)",
-            claims.len()
+            "{} published claims, {} reproduced, {} not reproduced, {} undecided",
+            claims.len(),
+            count("reproduced"),
+            count("not reproduced"),
+            count("undecided")
         )
     };
     Some(format!(

@@ -164,6 +164,8 @@ pub fn select_keys(list: Option<&str>) -> Result<Vec<Key>> {
         return Ok(KEYS.to_vec());
     };
     let names: Vec<&str> = KEYS.iter().map(|k| k.figure).collect();
+    let given: Vec<&str> = list.split(',').map(str::trim).collect();
+    crate::error::reject_duplicates("--figures", &given)?;
     list.split(',')
         .map(str::trim)
         .map(|f| {

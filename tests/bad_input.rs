@@ -847,3 +847,186 @@ fn report_seed_sets_refuse_copies_and_mismatches() {
         "{all}"
     );
 }
+
+/// PNGs and CSVs an earlier run left in a figure's folder (e.g. before
+/// `--correlation-only`) are named in summary.json as `stale_files`, kept,
+/// and left out of the report, which linked them as this run's.
+#[test]
+fn stale_outputs_of_an_earlier_run_are_named_and_not_reported() {
+    let out = scratch("stale-outputs");
+    let fig = out.join("waves-fig3");
+    std::fs::create_dir_all(&fig).unwrap();
+    std::fs::write(fig.join("old-plot.png"), b"not a picture of this run").unwrap();
+    std::fs::write(fig.join("old.csv"), b"a,b\n").unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_waves-fig3"))
+        .args(["--runs", "1", "--steps", "480", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        text.contains("old-plot.png") && text.contains("stale_files"),
+        "{text}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fig.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        s["stale_files"],
+        serde_json::json!(["old-plot.png", "old.csv"])
+    );
+    assert!(fig.join("old-plot.png").is_file(), "kept");
+    let r = Command::new(env!("CARGO_BIN_EXE_report"))
+        .args([
+            "--no-run",
+            "--only",
+            "waves-fig3",
+            "--tier",
+            "quick",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let page = std::fs::read_to_string(out.join("report/REPORT.md")).unwrap();
+    assert!(
+        !page.contains("old-plot.png") && !page.contains("old.csv"),
+        "{page}"
+    );
+    assert!(page.contains("waves-fig3"));
+}
+
+/// hopper-fig2 draws its snapshot pictures beside the first beta = 0 case
+/// whatever the order of `--cases`, and says so when there is none (it
+/// labelled a beta = 1 run "beta = 0" and skipped silently).
+#[test]
+fn hopper_fig2_panels_follow_the_cases_not_their_order() {
+    let exe = env!("CARGO_BIN_EXE_hopper-fig2");
+    let out = scratch("hopper-fig2-cases");
+    let o = Command::new(exe)
+        .args(["--cases", "beta1_bond", "--runs", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(text.contains("no beta = 0 case among --cases"), "{text}");
+    // one run has no error bar, not one of 0
+    let zero = |l: &&str| l.contains("(1 runs)") && l.contains("+- 0.0000");
+    assert_eq!(text.lines().find(zero), None);
+    let o = Command::new(exe)
+        .args(["--cases", "beta1_bond,beta0", "--runs", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!text.contains("no beta = 0 case"), "{text}");
+    let pictures: Vec<String> = std::fs::read_dir(out.join("hopper-fig2"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("hopper-fig2-") && n.ends_with(".png"))
+        .collect();
+    assert_eq!(
+        pictures.len(),
+        1,
+        "one picture, of the beta = 1 case: {pictures:?}"
+    );
+}
+
+/// FNV-1a, 64 bits: the run files' checksum (src/ensemble.rs).
+fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// A saved run whose `contrast` series was shortened and its file re-sealed
+/// with a valid checksum is refused, naming the file, instead of panicking
+/// in the analysis.
+#[test]
+fn a_resealed_run_with_a_short_series_is_refused() {
+    let exe = env!("CARGO_BIN_EXE_waves-fig3");
+    let out = scratch("resealed-run");
+    let args = ["--runs", "1", "--steps", "480", "--out"];
+    let o = Command::new(exe).args(args).arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut files = vec![];
+    let mut stack = vec![out.clone()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.file_name().unwrap().to_string_lossy().starts_with("run-") {
+                files.push(p);
+            }
+        }
+    }
+    assert_eq!(files.len(), 1, "{files:?}");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&files[0]).unwrap()).unwrap();
+    let body = v.as_object_mut().unwrap();
+    body.remove("checksum");
+    let series = body["result"]["contrast"]
+        .as_array_mut()
+        .expect("a contrast series");
+    series.truncate(series.len() / 2);
+    let sum = format!(
+        "{:016x}",
+        fnv1a64(
+            serde_json::Value::Object(body.clone())
+                .to_string()
+                .as_bytes()
+        )
+    );
+    body.insert("checksum".into(), sum.into());
+    std::fs::write(&files[0], v.to_string()).unwrap();
+    let o = Command::new(exe).args(args).arg(&out).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("`contrast` series has") && err.contains("run-00000.json"),
+        "{err}"
+    );
+}
+
+/// Zero or one run is undecided and has no error bar: a sweep with no run
+/// at rho <= 1 does not pass the claim about those runs, and fig2's alpha
+/// over one run has no `alpha_err` (it used to be the fit's own error).
+#[test]
+fn zero_or_one_run_decides_nothing_and_has_no_error_bar() {
+    let out = scratch("vacuous");
+    let o = Command::new(env!("CARGO_BIN_EXE_waves-fig9"))
+        .args(["--rho", "5.99", "--runs", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    let line = text.lines().find(|l| l.contains("valid_up_to_rho_1"));
+    assert!(
+        line.is_some_and(|l| l.starts_with("[UNDECIDED]")),
+        "{text}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = Command::new(env!("CARGO_BIN_EXE_fig2"))
+        .args(["--runs", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("fig2/summary.json")).unwrap())
+            .unwrap();
+    assert!(s["metrics"]["alpha_err"].is_null(), "{}", s["metrics"]);
+    assert!(
+        s["missing_metrics"]["alpha_err"].is_string(),
+        "{}",
+        s["missing_metrics"]
+    );
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("(no standard error: one run)"), "{text}");
+}

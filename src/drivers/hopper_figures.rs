@@ -134,13 +134,22 @@ impl Fig2Runs {
         scale: f64,
         tier: Tier,
     ) -> Result<()> {
-        for (case, rs) in self.cases.iter().zip(&self.recs).skip(1) {
+        // panel (a) is the first beta = 0 case; the pictures show each other
+        // case beside it (a case list without one draws none, and says so)
+        let Some(zero) = self.cases.iter().position(|c| c.beta == 0.0) else {
+            println!(
+                "no beta = 0 case among --cases: the snapshot pictures, whose panel (a) is beta = 0, are not drawn"
+            );
+            return Ok(());
+        };
+        let others = self.cases.iter().zip(&self.recs).enumerate();
+        for (_, (case, rs)) in others.filter(|(i, _)| *i != zero) {
             // the three readings of "aligned" are named by the reading
             let name = match case.key {
                 "beta1_along" | "beta1_same" | "beta1_bond" => case.aligned.name(),
                 key => key,
             };
-            let panels = Panel::fig2(&self.recs[0][0], &rs[0], snaps);
+            let panels = Panel::fig2(&self.recs[zero][0], &rs[0], case.beta, snaps);
             draw_snapshots(
                 &out.path(&format!("hopper-fig2-{name}.png")),
                 &format!(

@@ -209,10 +209,12 @@ pub fn combine(setup: &SpectrumSetup, runs: Vec<SpectrumRun>) -> Result<Spectrum
     let mean_spectrum = average_spectra(&spectra)?;
     let fit_of_mean = estimate_alpha(&mean_spectrum)?;
     let alphas: Vec<f64> = runs.iter().map(|r| r.alpha).collect();
-    let (alpha, mut alpha_err) = mean_sem(&alphas);
-    if runs.len() == 1 {
-        alpha_err = runs[0].alpha_err;
-    }
+    // one run has no spread: no error bar (not the fit's own error, which
+    // is not the SE over runs that every other run count reports)
+    let (alpha, alpha_err) = match mean_sem(&alphas) {
+        (a, _) if runs.len() < 2 => (a, f64::NAN),
+        x => x,
+    };
     let vs: Vec<f64> = runs.iter().map(|r| r.v_peak).collect();
     let (_, v_err) = mean_sem(&vs);
     let j_peak = fit_of_mean.j_peak;
@@ -267,10 +269,13 @@ pub fn spectrum_lines(ens: &SpectrumEnsemble, label: &str, c: usize) -> Vec<Line
     vec![
         Line::new(label, data, PALETTE[c % PALETTE.len()]),
         Line::new(
-            &format!(
-                "fit {lo}..{hi}: alpha = {:.2} (runs: {:.2} +- {:.2})",
-                fit.alpha, ens.alpha, ens.alpha_err
-            ),
+            &match ens.alpha_err.is_finite() {
+                true => format!(
+                    "fit {lo}..{hi}: alpha = {:.2} (runs: {:.2} +- {:.2})",
+                    fit.alpha, ens.alpha, ens.alpha_err
+                ),
+                false => format!("fit {lo}..{hi}: alpha = {:.2} (one run)", fit.alpha),
+            },
             fitted,
             PALETTE[(c + 1) % PALETTE.len()],
         ),

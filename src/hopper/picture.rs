@@ -39,9 +39,10 @@ pub struct Panel {
 impl Panel {
     /// The BB90 Fig. 2 panels: (a) the `beta0` run `snaps[1]` iterations
     /// after opening; (b) the `beta1` run half-way through the rain; (c-f)
-    /// the `beta1` run at `snaps` (at most four). A missing snapshot is
-    /// drawn empty.
-    pub fn fig2(beta0: &Record, beta1: &Record, snaps: &[u64]) -> Vec<Panel> {
+    /// the `beta1` run at `snaps` (at most four), whose panels are captioned
+    /// with its own `beta` (1 in the paper). A missing snapshot is drawn
+    /// empty.
+    pub fn fig2(beta0: &Record, beta1: &Record, beta: f64, snaps: &[u64]) -> Vec<Panel> {
         let blank = vec![0; beta1.mid_fill.len()];
         let snap = |rec: &Record, t| rec.snapshot(t).map_or(blank.clone(), <[u8]>::to_vec);
         let mut panels = vec![
@@ -50,13 +51,13 @@ impl Panel {
                 sites: snap(beta0, snaps[1]),
             },
             Panel {
-                caption: "(b) filling, beta = 1".to_string(),
+                caption: format!("(b) filling, beta = {beta}"),
                 sites: beta1.mid_fill.clone(),
             },
         ];
         for (k, &t) in snaps.iter().enumerate() {
             panels.push(Panel {
-                caption: format!("({}) beta = 1, iteration {t}", ["c", "d", "e", "f"][k]),
+                caption: format!("({}) beta = {beta}, iteration {t}", ["c", "d", "e", "f"][k]),
                 sites: snap(beta1, t),
             });
         }

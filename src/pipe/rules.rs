@@ -316,7 +316,9 @@ impl FromStr for Rules {
     fn from_str(s: &str) -> Result<Self, Error> {
         let mut r = Rules::MODEL_MD;
         let mut gravity_named = false;
-        for part in s.split('+').map(str::trim) {
+        let parts: Vec<&str> = s.split('+').map(str::trim).collect();
+        crate::error::reject_duplicates("rules", &parts)?;
+        for part in parts {
             let g = if part == "default" {
                 let d = Rules::default();
                 r.gravity_first |= d.gravity_first;

@@ -201,6 +201,16 @@ pub mod running {
             .remove(&pid);
     }
 
+    /// On SIGINT or SIGTERM, stop every running candidate's process group,
+    /// then exit with status 130 (a candidate runs in a group of its own,
+    /// which the terminal's interrupt does not reach).
+    pub fn stop_on_interrupt() {
+        let _ = ctrlc::set_handler(|| {
+            kill_all();
+            std::process::exit(130);
+        });
+    }
+
     /// Stop every running candidate's process group (SIGKILL to the group).
     pub fn kill_all() {
         let groups = GROUPS.lock().unwrap_or_else(|e| e.into_inner()).clone();

@@ -472,6 +472,28 @@ pub fn markdown(r: &Report) -> String {
     s
 }
 
+/// Write `report` as `report.md` and `report.json` into `out`, print its
+/// lines ([`summary_lines`]) and, when the validation stopped early, why
+/// on stderr.
+pub fn write_report(report: &Report, out: &crate::run::Output) -> Result<()> {
+    let md = markdown(report);
+    crate::run::write_atomic(&out.path("report.md"), md.as_bytes())?;
+    let json = serde_json::to_string_pretty(report).map_err(|e| {
+        crate::Error::new(
+            crate::ErrorKind::Io,
+            format!("cannot serialise the report: {e}"),
+        )
+    })?;
+    crate::run::write_atomic(&out.path("report.json"), json.as_bytes())?;
+    for line in summary_lines(report, out.dir()) {
+        println!("{line}");
+    }
+    if let Some(f) = &report.failure {
+        eprintln!("validate: {} FAILS: {f}", report.candidate);
+    }
+    Ok(())
+}
+
 /// The lines `validate` prints: one per level run (verdict and counts),
 /// the hopper's status and levels, then the verdict and where the report
 /// is (`dir`).
