@@ -928,7 +928,13 @@ fn hopper_fig2_panels_follow_the_cases_not_their_order() {
         .flatten()
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .filter(|n| n.starts_with("hopper-fig2-") && n.ends_with(".png"))
+        .filter(|n| !n.contains("activity") && !n.ends_with("-gr.png"))
         .collect();
+    assert_eq!(
+        pictures,
+        ["hopper-fig2-along-bond.png"],
+        "the beta = 1 case's picture"
+    );
     assert_eq!(
         pictures.len(),
         1,
