@@ -61,7 +61,7 @@ struct Args {
     /// error (e.g. 3%) with power 0.95; prints them and the cost first.
     #[arg(long, value_parser = detect::parse_error, conflicts_with_all = ["trials", "runs"])]
     detect: Option<f64>,
-    /// Write the reference's exact level-1 table as JSON to this file and exit.
+    /// Write the reference pipe's exact level-1 table as JSON to this file and exit.
     #[arg(long)]
     export_table: Option<PathBuf>,
     /// Calibration: repeat the validation with base seeds seed, seed+1, ...,
@@ -103,6 +103,7 @@ enum Setup {
 fn usage(args: &Args) -> granular_automata::Result<Setup> {
     let rules: Rules = args.rules.parse()?;
     if args.export_table.is_some() {
+        conformance::exportable(args.model)?;
         return Ok(Setup::Export(rules));
     }
     if let Some(n) = args.repeat {

@@ -7,7 +7,7 @@
 //! `cargo run --release --bin validate-detection -- docs/validate-detection`
 
 use granular_automata::plot::{line_chart_at, register_fonts, Line, PALETTE};
-use granular_automata::validate::detect::{read_row, Row};
+use granular_automata::validate::detect::{check_row, Row};
 use plotters::prelude::{RGBColor, SeriesLabelPosition};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
@@ -36,8 +36,10 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     for entry in entries {
         let path = entry?.path();
         if path.extension().is_some_and(|x| x == "csv") {
-            if let Some(r) = read_row(&std::fs::read_to_string(&path)?) {
-                rows.push(r);
+            match check_row(&std::fs::read_to_string(&path)?) {
+                Ok(Some(r)) => rows.push(r),
+                Ok(None) => {}
+                Err(why) => return Err(format!("{}: {why}", path.display()).into()),
             }
         }
     }

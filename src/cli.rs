@@ -74,9 +74,7 @@ pub fn check_two_bins(length: usize, bin: usize) -> crate::Result<()> {
     Ok(())
 }
 
-/// Most `--steps` any binary accepts (a billion: hours per run at the
-/// papers' sizes); the same cap everywhere ([`check_steps`]).
-pub const MAX_STEPS: u64 = 1_000_000_000;
+pub use crate::run::MAX_STEPS;
 
 /// Check `--steps` against `min..=`[`MAX_STEPS`]: `steps`, or an
 /// [`crate::ErrorKind::InvalidParameter`] error naming the value and the

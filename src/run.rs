@@ -758,6 +758,11 @@ impl Output {
     }
 }
 
+/// Most steps any binary or plan accepts (a billion: hours per run at the
+/// papers' sizes); the same cap everywhere (`cli::check_steps`, the
+/// plans of the external contract).
+pub const MAX_STEPS: u64 = 1_000_000_000;
+
 /// Where the committed report lies (its report.json holds the verdicts at
 /// the published set-ups).
 const COMMITTED_REPORT: &str = "docs/report";

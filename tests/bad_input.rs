@@ -1036,3 +1036,98 @@ fn zero_or_one_run_decides_nothing_and_has_no_error_bar() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("(no standard error: one run)"), "{text}");
 }
+
+/// `validate-example` plans: steps and iteration counts are capped, a plan
+/// that asks for no sample is an error (it exited 0 with no output), and a
+/// long plan is streamed (it held every sample in memory first).
+#[test]
+fn validate_example_caps_its_plans_and_streams() {
+    let exe = env!("CARGO_BIN_EXE_validate-example");
+    let pipe = r#"{"params":{"length":64,"width":4,"rho":1.0,"p":0.5,"g":0.5,"b":0.5,"bin":8,"boundary":"Periodic"},"rules":"default","seed":1,"init":null,"sites":false,"#;
+    let run = |mode: &str, plan: String| {
+        let mut c = Command::new(exe)
+            .args([mode, "--plan", "-"])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        use std::io::Write;
+        c.stdin.take().unwrap().write_all(plan.as_bytes()).unwrap();
+        c.wait_with_output().unwrap()
+    };
+    for (steps, every, want) in [
+        ("0", "1", "steps = 0"),
+        ("2", "5", "every = 5"),
+        (HUGE, HUGE, "steps = 18446744073709551615"),
+    ] {
+        let o = run(
+            "run",
+            format!("{pipe}\"steps\":{steps},\"every\":{every}}}"),
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{steps} {every}: {err}");
+        assert!(err.contains(want), "{err}");
+        assert!(o.stdout.is_empty());
+    }
+    let o = run("run", format!("{pipe}\"steps\":3,\"every\":1}}"));
+    assert_eq!(String::from_utf8_lossy(&o.stdout).lines().count(), 3);
+    let params = serde_json::to_string(&granular_automata::hopper::HopperParams::quick()).unwrap();
+    let hopper =
+        |action: &str| format!(r#"{{"params":{params},"seed":1,"state":null,"action":{action}}}"#);
+    for (action, want) in [
+        (
+            format!(r#"{{"steps":{{"n":{HUGE},"rain":false}}}}"#),
+            "n = 18446744073709551615",
+        ),
+        (
+            format!(r#"{{"fill":{{"target":10,"max_iterations":{HUGE},"max_settle":1}}}}"#),
+            "max_iterations = 18446744073709551615",
+        ),
+    ] {
+        let o = run("hopper", hopper(&action));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{action}: {err}");
+        assert!(err.contains(want), "{err}");
+    }
+}
+
+/// `validate-detection` refuses a CSV it cannot count (a duplicated seed,
+/// a NaN factor, no rows) naming it, instead of counting it; and
+/// `validate --export-table --model hopper` is refused (it wrote the
+/// pipe's table).
+#[test]
+fn validate_detection_refuses_what_it_cannot_count() {
+    let exe = env!("CARGO_BIN_EXE_validate-detection");
+    let head = "# candidate=mutant:p-r3*F level=One model=Pipe tier=Quick rules=default trials=4000 runs=8 hopper_runs=8\nseed,pass\n";
+    for (tag, factor, rows, want) in [
+        ("dup", "1.05", "1,true\n1,true\n", "counted twice"),
+        ("nan", "NaN", "1,true\n", "not a finite positive number"),
+        ("empty", "1.05", "", "no validation rows"),
+    ] {
+        let dir = scratch(&format!("detection-{tag}"));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("repeat-x.csv"), head.replace('F', factor) + rows).unwrap();
+        let o = Command::new(exe).arg(&dir).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{tag}: {err}");
+        assert!(
+            err.contains(want) && err.contains("repeat-x.csv"),
+            "{tag}: {err}"
+        );
+        assert!(!dir.join("detection.csv").exists());
+    }
+    let table = scratch("export-hopper").join("table.json");
+    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
+        .args(["--model", "hopper", "--export-table"])
+        .arg(&table)
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(!table.exists());
+}

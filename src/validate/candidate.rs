@@ -76,32 +76,59 @@ impl<B: EngineBuilder> Candidate for Builtin<B> {
     }
 
     fn run(&self, plan: &RunPlan) -> Result<Vec<Sample>> {
+        let mut out = Vec::new();
+        self.run_each(plan, &mut |s| {
+            out.push(s);
+            Ok(())
+        })?;
+        Ok(out)
+    }
+}
+
+impl<B: EngineBuilder> Builtin<B> {
+    /// Run `plan`, handing each sample to `each` as it is taken (so that a
+    /// long plan is streamed, not held in memory).
+    pub fn run_each(
+        &self,
+        plan: &RunPlan,
+        each: &mut dyn FnMut(Sample) -> Result<()>,
+    ) -> Result<()> {
         check_plan(plan)?;
         let rules: Rules = plan.rules.parse()?;
         let mut e = self.0.build(plan.params, rules, plan.seed)?;
         if let Some(init) = &plan.init {
             prepare(e.as_mut(), init)?;
         }
-        let mut out = Vec::with_capacity((plan.steps / plan.every) as usize);
         let mut bins = vec![0.0; plan.params.bins()];
         for t in 1..=plan.steps {
             e.step()?;
             if t % plan.every == 0 {
                 e.fill_bin_counts(&mut bins);
-                out.push(sample(e.as_ref(), t, &bins, plan.sites));
+                each(sample(e.as_ref(), t, &bins, plan.sites))?;
             }
         }
-        Ok(out)
+        Ok(())
     }
 }
 
+/// Check a plan: its pipe, steps in 1..=[`crate::run::MAX_STEPS`], and a
+/// sampling interval in 1..=steps (a plan that asks for no sample is an
+/// error, not an empty answer).
 fn check_plan(plan: &RunPlan) -> Result<()> {
     plan.params.validate()?;
-    if plan.every == 0 {
+    let max = crate::run::MAX_STEPS;
+    if !(1..=max).contains(&plan.steps) {
+        return Err(Error::out_of_range(
+            "steps",
+            plan.steps,
+            &format!("[1, {max}]"),
+        ));
+    }
+    if !(1..=plan.steps).contains(&plan.every) {
         return Err(Error::out_of_range(
             "sampling interval every",
-            0,
-            "[1, steps]",
+            plan.every,
+            &format!("[1, steps = {}]", plan.steps),
         ));
     }
     Ok(())
@@ -588,9 +615,9 @@ pub fn serve<B: EngineBuilder>(
     output: &mut dyn Write,
 ) -> Result<()> {
     let plan: RunPlan = read_plan(input, "RunPlan")?;
-    for s in Builtin(builder).run(&plan)? {
+    Builtin(builder).run_each(&plan, &mut |s| {
         let line = serde_json::to_string(&s).expect("a sample serialises");
         writeln!(output, "{line}")?;
-    }
-    Ok(())
+        Ok(())
+    })
 }

@@ -230,6 +230,20 @@ pub struct TableProbe {
     pub states: Vec<BTreeMap<String, f64>>,
 }
 
+/// Whether `--export-table` can serve `model`: the table is the pipe's
+/// level 1 (the hopper's level 1 has no table of outcome probabilities).
+///
+/// Errors: `model` is the hopper alone ([`crate::ErrorKind::InvalidParameter`]).
+pub fn exportable(model: super::Model) -> crate::Result<()> {
+    if model == super::Model::Hopper {
+        return Err(crate::Error::new(
+            crate::ErrorKind::InvalidParameter,
+            "--export-table writes the pipe's level-1 table; the hopper has none: drop --model hopper",
+        ));
+    }
+    Ok(())
+}
+
 /// `validate --export-table`: the exact table of `rules` at the default
 /// parameters, as JSON, to `path` (for an external candidate's own tests).
 pub fn export_table(path: &std::path::Path, rules: Rules) -> Result<()> {

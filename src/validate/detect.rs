@@ -179,31 +179,70 @@ pub struct Row {
 /// The row of one `--repeat` CSV (its header comment names the candidate
 /// `mutant:KNOB*F`, the level and the tier); `None` for another candidate.
 pub fn read_row(text: &str) -> Option<Row> {
-    let head = text.lines().next()?.strip_prefix("# ")?;
+    check_row(text).ok().flatten()
+}
+
+/// [`read_row`], checked: `Ok(None)` for a CSV that is not a mutant's
+/// `--repeat` run (skipped), an error for one that is but cannot be counted:
+/// a factor that is not a finite positive number, no validation rows, a row
+/// without a seed and verdict, or a seed given twice.
+pub fn check_row(text: &str) -> std::result::Result<Option<Row>, String> {
+    let Some(head) = text.lines().next().and_then(|h| h.strip_prefix("# ")) else {
+        return Ok(None);
+    };
     let field = |k: &str| {
         head.split_whitespace()
             .find_map(|w| w.strip_prefix(k)?.strip_prefix('='))
     };
-    let (knob, f) = field("candidate")?
-        .strip_prefix("mutant:")?
-        .split_once('*')?;
-    let level = match field("level")? {
-        "One" => 1,
-        "Two" => 2,
-        _ => return None,
+    let Some((knob, f)) = field("candidate")
+        .and_then(|c| c.strip_prefix("mutant:"))
+        .and_then(|c| c.split_once('*'))
+    else {
+        return Ok(None);
     };
+    let level = match field("level") {
+        Some("One") => 1,
+        Some("Two") => 2,
+        _ => return Ok(None),
+    };
+    let factor: f64 = f
+        .parse()
+        .map_err(|_| format!("factor {f:?} is not a number"))?;
+    if !(factor.is_finite() && factor > 0.0) {
+        return Err(format!("factor {f} is not a finite positive number"));
+    }
+    let tier = field("tier")
+        .ok_or("no tier in the first line")?
+        .to_lowercase();
     let rows: Vec<&str> = text.lines().skip(2).filter(|l| !l.is_empty()).collect();
-    Some(Row {
-        tier: field("tier")?.to_lowercase(),
+    if rows.is_empty() {
+        return Err("no validation rows".into());
+    }
+    let mut seeds = std::collections::BTreeSet::new();
+    let mut failed = 0;
+    for (i, l) in rows.iter().enumerate() {
+        let mut cells = l.split(',');
+        let (seed, pass) = (cells.next(), cells.next());
+        let Some(seed) = seed.and_then(|s| s.parse::<u64>().ok()) else {
+            return Err(format!("row {} has no seed: {l:?}", i + 1));
+        };
+        match pass {
+            Some("true") => {}
+            Some("false") => failed += 1,
+            _ => return Err(format!("row {} has no verdict true/false: {l:?}", i + 1)),
+        }
+        if !seeds.insert(seed) {
+            return Err(format!("seed {seed} is counted twice"));
+        }
+    }
+    Ok(Some(Row {
+        tier,
         level,
         knob: knob.to_string(),
-        factor: f.parse().ok()?,
-        failed: rows
-            .iter()
-            .filter(|l| l.split(',').nth(1) == Some("false"))
-            .count(),
+        factor,
+        failed,
         total: rows.len(),
-    })
+    }))
 }
 
 #[cfg(test)]

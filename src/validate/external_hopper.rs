@@ -124,6 +124,7 @@ pub fn serve(
     output: &mut dyn std::io::Write,
 ) -> Result<()> {
     let plan: HopperPlan = super::candidate::read_plan(input, "HopperPlan")?;
+    check_plan(&plan)?;
     let mut e = builder.build(plan.params, plan.seed)?;
     if let Some(st) = &plan.state {
         set_up(e.as_mut(), st)?;
@@ -149,16 +150,11 @@ pub fn serve(
             e.fill(target, max_iterations, max_settle);
         }
         HopperAction::Steps { n, rain } => {
-            if rain {
-                for _ in 0..n {
-                    let report = e.step(true);
-                    let moving = crate::hopper::engine::moving_by_orientation(e.sites());
-                    line(&StepLine { report, moving })?;
-                }
-            } else {
-                for (report, moving) in e.empty_steps(n) {
-                    line(&StepLine { report, moving })?;
-                }
+            // one line per step as it is taken (as `empty_steps` does, streamed)
+            for _ in 0..n {
+                let report = e.step(rain);
+                let moving = crate::hopper::engine::moving_by_orientation(e.sites());
+                line(&StepLine { report, moving })?;
             }
         }
     }
@@ -173,6 +169,36 @@ pub fn serve(
         iterations: e.iteration() - it,
         site_updates: e.site_updates(),
     })
+}
+
+/// Most iterations one hopper plan may ask for (a hopper empties in some
+/// thousands; the cap stops a plan that would run without end).
+pub const MAX_ITERATIONS: u64 = 10_000_000;
+
+/// Check a hopper plan's iteration counts against [`MAX_ITERATIONS`].
+fn check_plan(plan: &HopperPlan) -> Result<()> {
+    let counts: Vec<(&str, u64)> = match &plan.action {
+        HopperAction::Energies { .. } => vec![],
+        HopperAction::Fill {
+            max_iterations,
+            max_settle,
+            ..
+        } => vec![
+            ("max_iterations", *max_iterations),
+            ("max_settle", *max_settle),
+        ],
+        HopperAction::Steps { n, .. } => vec![("n", *n)],
+    };
+    for (name, v) in counts {
+        if v > MAX_ITERATIONS {
+            return Err(Error::out_of_range(
+                name,
+                v,
+                &format!("[0, {MAX_ITERATIONS}]"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// One printable line (a tiny object-safe wrapper of serde's Serialize).
