@@ -15,6 +15,7 @@ use granular_automata::run::{run_seeds, Figure};
 
 #[derive(Parser, Debug)]
 #[command(about = "BB90 Fig. 2: hopper filling and emptying, beta = 0 vs beta = 1")]
+#[command(mut_arg("shard", |a| a.hide(true)))] // its runs stay in one process
 struct Args {
     /// quick: a small hopper; standard and paper: 174 x 129. `--runs`: runs
     /// per case averaged in the metrics (snapshots show run 0).

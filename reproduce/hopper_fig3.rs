@@ -18,6 +18,7 @@ use granular_automata::run::{run_seeds, Figure};
 
 #[derive(Parser, Debug)]
 #[command(about = "BB90 Fig. 3: hopper outflow per iteration and its power spectrum")]
+#[command(mut_arg("shard", |a| a.hide(true)))] // its runs stay in one process
 struct Args {
     /// quick: a small hopper; standard: 174 x 129; paper: 270 x 200, whose
     /// stationary window covers the 6144 iterations. `--runs`: runs per

@@ -28,6 +28,7 @@ ph94+wall-drag+wall-move,any-mover+wall-move";
 
 #[derive(Parser)]
 #[command(about = "Which reading of the pipe rules reproduces which published claim")]
+#[command(mut_arg("shard", |a| a.hide(true)))]
 struct Args {
     #[command(flatten)]
     common: Common,

@@ -101,7 +101,10 @@ fn report() -> granular_automata::Result<()> {
         engine: a.engine,
         extra,
         bin_dir: granular_automata::report::bin_dir(),
-        command_line: std::env::args().collect::<Vec<_>>().join(" "),
+        command_line: std::env::args()
+            .map(|a| granular_automata::report::shell_quote(&a))
+            .collect::<Vec<_>>()
+            .join(" "),
         no_run: a.no_run,
         seed_sets: a.seed_sets,
     };

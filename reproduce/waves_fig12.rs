@@ -30,7 +30,7 @@ use serde_json::json;
 use std::time::Instant;
 
 #[derive(Parser)]
-#[command(about = "PH95 Fig. 12: open pipe, critical injection rate, spectra and alpha against I")]
+#[command(about = "PH95 Fig. 12: open pipe, critical injection rate, spectra and alpha against I", mut_arg("shard", |a| a.hide(true)))]
 struct Args {
     #[command(flatten)]
     pipe: PipeArgs,

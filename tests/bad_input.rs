@@ -273,8 +273,9 @@ fn steps_share_one_cap_and_sizes_do_not_wrap() {
         env!("CARGO_BIN_EXE_waves-fig12"),
         &["--sizes", &format!("220x{HUGE}")],
         &[
-            "W * L",
-            "18446744073709551615 * 220 = 4058283696216101355300",
+            "(W + 2) * (L + 2)",
+            "18446744073709551617 * 222 = 4095177184363520458974",
+            "[9, 4294967295]",
         ],
     );
     assert_eq!(e, 2, "a size out of range is a usage error");
@@ -1130,4 +1131,104 @@ fn validate_detection_refuses_what_it_cannot_count() {
         String::from_utf8_lossy(&o.stderr)
     );
     assert!(!table.exists());
+}
+
+/// Messages say what is allowed: the real size limit, `all` only alone,
+/// an empty case name, a short time limit to the digit, and a length
+/// suggestion that is itself accepted.
+#[test]
+fn messages_name_what_is_allowed() {
+    refused(
+        env!("CARGO_BIN_EXE_explore"),
+        &["--length", "2000000000", "--width", "1"],
+        &["(W + 2) * (L + 2)", "3 * 2000000002", "[9, 4294967295]"],
+    );
+    refused(
+        env!("CARGO_BIN_EXE_hopper-fig2"),
+        &["--cases", ","],
+        &["empty case name"],
+    );
+    let e = refused(
+        env!("CARGO_BIN_EXE_waves-fig4"),
+        &["--lengths", "130"],
+        &["L = 128 or 132"],
+    );
+    assert_eq!(e, 2);
+    let e = refused(
+        env!("CARGO_BIN_EXE_waves-fig4"),
+        &["--lengths", "6"],
+        &["choose L = 8 ("],
+    );
+    assert_eq!(e, 2);
+    let out = scratch("timeout-message");
+    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
+        .args([
+            "--candidate",
+            "cmd:sleep 5",
+            "--level",
+            "1",
+            "--model",
+            "pipe",
+        ])
+        .args(["--run-timeout", "0.001", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("time limit of 0.001 s"), "{err}");
+}
+
+/// `pipe-matrix --help` (and the other figures that keep their runs in one
+/// process) does not offer `--shard`, which it refuses.
+#[test]
+fn help_offers_no_shard_where_it_is_refused() {
+    for exe in [
+        env!("CARGO_BIN_EXE_pipe-matrix"),
+        env!("CARGO_BIN_EXE_hopper-fig2"),
+        env!("CARGO_BIN_EXE_hopper-fig3"),
+        env!("CARGO_BIN_EXE_waves-fig12"),
+    ] {
+        let o = Command::new(exe).arg("--help").output().unwrap();
+        assert!(
+            !String::from_utf8_lossy(&o.stdout).contains("--shard"),
+            "{exe}"
+        );
+        refused(exe, &["--shard", "0/2"], &["does not support --shard"]);
+    }
+    let o = Command::new(env!("CARGO_BIN_EXE_fig2"))
+        .arg("--help")
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&o.stdout).contains("--shard"));
+}
+
+/// `report --args-for` reads its arguments as a shell does (quotes kept
+/// together), and REPORT.md's Regenerate line is shell-quoted, so pasting
+/// it runs the same command.
+#[test]
+fn report_quotes_its_regenerate_line_and_reads_quoted_args() {
+    let r = report_folder_with_hopper_fig3("quoted-args");
+    let o = Command::new(env!("CARGO_BIN_EXE_report"))
+        .args(["--no-run", "--only", "hopper-fig3", "--tier", "acceptance"])
+        .args(["--args-for", "hopper-fig3=--cases 'beta0'"])
+        .arg("--out")
+        .arg(&r)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let page = std::fs::read_to_string(r.join("report/REPORT.md")).unwrap();
+    let quoted = r#"'hopper-fig3=--cases '\''beta0'\'''"#;
+    assert!(page.contains(quoted), "{quoted} not in {page}");
+    let o = Command::new(env!("CARGO_BIN_EXE_report"))
+        .args([
+            "--no-run",
+            "--only",
+            "hopper-fig3",
+            "--args-for",
+            "hopper-fig3='--cases",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("unterminated"));
 }

@@ -403,7 +403,7 @@ impl Group {
                         crate::error::Error::new(
                             ErrorKind::InvalidParameter,
                             format!(
-                                "--groups: '{n}' is not a group of claims; choose from all, {}",
+                                "--groups: '{n}' is not a group of claims; choose from {} (or `all` alone)",
                                 names.join(", ")
                             ),
                         )

@@ -460,7 +460,16 @@ impl Case {
     /// typed error names an unknown key and the known ones, or a key given
     /// twice.
     pub fn parse_list(keys: &str) -> Result<Vec<Case>> {
+        let list = keys;
         let keys: Vec<&str> = keys.split(',').map(str::trim).collect();
+        if keys.contains(&"") {
+            return Err(crate::error::Error::new(
+                crate::error::ErrorKind::InvalidParameter,
+                format!(
+                    "--cases '{list}': an empty case name; give case names separated by commas"
+                ),
+            ));
+        }
         crate::error::reject_duplicates("--cases", &keys)?;
         keys.into_iter()
             .map(|k| {

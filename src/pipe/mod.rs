@@ -135,14 +135,20 @@ impl Params {
             check_unit("I (injection)", inject)?;
         }
         if self.length % self.bin != 0 {
+            // the nearest lengths that fit: multiples of the bin, at least 2 bins
+            let lo = self.length / self.bin * self.bin;
+            let near: Vec<String> = [lo, lo + self.bin]
+                .iter()
+                .filter(|&&l| l >= 2 * self.bin)
+                .map(|l| l.to_string())
+                .collect();
             return Err(Error::new(
                 ErrorKind::InvalidParameter,
                 format!(
-                    "L = {} is not a multiple of bin = {}; choose L in {{{}, {}, ...}} or a bin size dividing L",
+                    "L = {} is not a multiple of bin = {}; choose L = {} (a multiple of the bin, at least 2 bins)",
                     self.length,
                     self.bin,
-                    self.bin,
-                    2 * self.bin
+                    near.join(" or ")
                 ),
             ));
         }
@@ -154,15 +160,16 @@ impl Params {
             .is_none_or(|n| n > u32::MAX as usize)
         {
             // the exact product (no wrap-around) in the message
+            // the sites with the wall and halo rows: (W + 2)(L + 2), exact
             return Err(Error::out_of_range(
-                "W * L",
+                "(W + 2) * (L + 2)",
                 format!(
                     "{} * {} = {}",
-                    self.width,
-                    self.length,
-                    self.width as u128 * self.length as u128
+                    self.width as u128 + 2,
+                    self.length as u128 + 2,
+                    (self.width as u128 + 2) * (self.length as u128 + 2)
                 ),
-                "[1, 4e9]",
+                &format!("[9, {}]", u32::MAX),
             ));
         }
         Ok(())

@@ -423,7 +423,7 @@ impl External {
                 // the whole process group: `sh` and what it started
                 kill();
                 let what = format!(
-                    "did not finish its run within the time limit of {:.1} s and was stopped: {} (set the limit with --run-timeout)",
+                    "did not finish its run within the time limit of {} s and was stopped: {} (set the limit with --run-timeout)",
                     limit.as_secs_f64(),
                     what()
                 );
