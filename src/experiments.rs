@@ -83,7 +83,7 @@ pub fn write(path: &Path, json: &Path, notes: &Path) -> Result<()> {
 }
 
 /// The papers' order of the figure binaries.
-const ORDER: [&str; 15] = [
+pub const ORDER: [&str; 15] = [
     "fig1",
     "fig2",
     "waves-fig2",

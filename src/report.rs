@@ -1378,6 +1378,7 @@ fn write_pages(dir: &Path, report: &Report) -> Result<()> {
     })?;
     write_atomic(&dir.join("REPORT.md"), markdown(report).as_bytes())?;
     write_atomic(&dir.join("index.html"), html(report).as_bytes())?;
+    write_atomic(&dir.join("headline.svg"), headline_svg(report).as_bytes())?;
     let json = serde_json::to_string_pretty(report)
         .map_err(|e| Error::new(ErrorKind::Io, format!("cannot serialise the report: {e}")))?;
     write_atomic(&dir.join("report.json"), json.as_bytes())?;
@@ -1646,6 +1647,7 @@ pub fn markdown(r: &Report) -> String {
         "# Reproduction report: granular-automata {}, {} tier\n",
         r.stamp.version, r.tier
     );
+    let _ = writeln!(m, "![{0}](headline.svg)\n\n**{0}**\n", short_headline(r));
     let _ = writeln!(m, "{}\n", headline(r));
     // the stamp carries this invocation's CPU time: a timing line
     let _ = writeln!(m, "{} {TIMING_MARK}\n", top_stamp(r).replace('`', "'"));
@@ -1970,7 +1972,13 @@ code{font-size:.92em}
 pre{background:#f6f6f6;padding:.5em;overflow-x:auto;font-size:.85em}
 .small{font-size:.85em;color:#555}
 img.thumb{width:96px;height:64px;object-fit:contain;border:1px solid #eee}
-.scroll{overflow-x:auto}";
+.scroll{overflow-x:auto}
+.glance{margin:1em 0}.glance figcaption{font-size:1.1em;font-weight:600;margin-top:.3em}
+.cards{display:grid;grid-template-columns:repeat(auto-fill,minmax(min(100%,520px),1fr));gap:1em}
+.fcard{border:1px solid #ddd;border-radius:6px;padding:.6em}
+.fcard h3{font-size:1.05em;margin:.1em 0}
+.fcard img{width:100%;max-height:260px;object-fit:contain;border:1px solid #eee}
+table.claims td{vertical-align:middle}table.claims td.v{width:7em;white-space:normal;text-align:center}table.claims svg{max-width:100%;height:auto}";
 
 /// The report as one self-contained HTML page (inline CSS, no scripts,
 /// relative links to the figures' PNGs and CSVs).
@@ -1984,6 +1992,14 @@ pub fn html(r: &Report) -> String {
     );
     let _ = writeln!(h, "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n<style>\n{CSS}\n</style>\n</head>\n<body>", esc(&title));
     let _ = writeln!(h, "<h1>{}</h1>", esc(&title));
+    let _ = writeln!(
+        h,
+        "<figure class=\"glance\">{}<figcaption>{}</figcaption></figure>",
+        headline_svg(r).replacen(SVG_NS, "", 1),
+        esc(&short_headline(r))
+    );
+    figure_cards(r, &mut h);
+    let _ = writeln!(h, "<h2>Details</h2>");
     let head = esc(&headline(r));
     let _ = writeln!(h, "<p class=\"headline\">{}</p>", code_spans(&head));
     let _ = writeln!(
@@ -2233,6 +2249,275 @@ fn code_spans(s: &str) -> String {
         }
     }
     out
+}
+
+/// The verdicts of the default reading's published claims among `rows`,
+/// each over the committed seed sets where there are some ([`Row::final_verdict`]):
+/// reproduced, not reproduced, undecided.
+fn final_tally<'a>(rows: impl Iterator<Item = &'a Row>) -> [usize; 3] {
+    let mut t = [0; 3];
+    for x in rows.filter(|x| x.is_default_claim()) {
+        match x.final_verdict() {
+            "reproduced" => t[0] += 1,
+            "not-reproduced" => t[1] += 1,
+            _ => t[2] += 1,
+        }
+    }
+    t
+}
+
+/// Colours of the verdicts in the pictures: reproduced, not reproduced,
+/// undecided.
+const VERDICT_COLOURS: [&str; 3] = ["#2e8540", "#c62828", "#9e9e9e"];
+
+/// The headline in one sentence of at most 25 words (under the picture).
+pub fn short_headline(r: &Report) -> String {
+    let [y, n, u] = final_tally(r.rows.iter());
+    let over = if r.rows.iter().any(|x| x.seed_sets.is_some()) {
+        "over the committed seed sets where a figure has them"
+    } else {
+        "one seed set per figure"
+    };
+    format!(
+        "{y} of {} published claims reproduced, {n} not reproduced, {u} undecided ({} tier; {over}).",
+        y + n + u,
+        r.tier
+    )
+}
+
+/// The namespace a standalone SVG file needs (an SVG inside the page does
+/// not, and the page names no web address).
+const SVG_NS: &str = " xmlns=\"http://www.w3.org/2000/svg\"";
+
+/// The headline picture: one bar per paper, split into its published
+/// claims reproduced, not reproduced and undecided (SVG).
+pub fn headline_svg(r: &Report) -> String {
+    let papers = per_paper(r);
+    let papers: Vec<(String, [usize; 3])> = papers
+        .into_iter()
+        .map(|(p, _)| {
+            let t = final_tally(r.rows.iter().filter(|x| x.paper == p));
+            (p, t)
+        })
+        .filter(|(_, t)| t.iter().sum::<usize>() > 0)
+        .collect();
+    let most = papers
+        .iter()
+        .map(|(_, t)| t.iter().sum::<usize>())
+        .max()
+        .unwrap_or(1)
+        .max(1);
+    let (left, width, bar, gap) = (70.0, 520.0, 26.0, 12.0);
+    let height = 30.0 + papers.len() as f64 * (bar + gap) + 10.0;
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {} {height}\" width=\"100%\" style=\"max-width:680px\" role=\"img\" aria-label=\"{}\" font-family=\"sans-serif\" font-size=\"13\">\n",
+        left + width + 90.0,
+        esc(&short_headline(r))
+    );
+    let names = ["reproduced", "not reproduced", "undecided"];
+    for (k, name) in names.iter().enumerate() {
+        let x = left + k as f64 * 150.0;
+        let _ = writeln!(
+            s,
+            "<rect x=\"{x}\" y=\"4\" width=\"12\" height=\"12\" fill=\"{}\"/><text x=\"{}\" y=\"15\">{name}</text>",
+            VERDICT_COLOURS[k],
+            x + 16.0
+        );
+    }
+    for (i, (paper, t)) in papers.iter().enumerate() {
+        let y = 28.0 + i as f64 * (bar + gap);
+        let _ = writeln!(
+            s,
+            "<text x=\"0\" y=\"{}\" font-weight=\"bold\">{}</text>",
+            y + bar * 0.68,
+            esc(paper)
+        );
+        let mut x = left;
+        for (k, &n) in t.iter().enumerate() {
+            let w = width * n as f64 / most as f64;
+            if n > 0 {
+                let _ = writeln!(
+                    s,
+                    "<rect x=\"{x:.1}\" y=\"{y}\" width=\"{w:.1}\" height=\"{bar}\" fill=\"{}\"><title>{paper}: {n} {}</title></rect>",
+                    VERDICT_COLOURS[k],
+                    names[k]
+                );
+                if w >= 22.0 {
+                    let _ = writeln!(
+                        s,
+                        "<text x=\"{:.1}\" y=\"{}\" fill=\"white\" text-anchor=\"middle\">{n}</text>",
+                        x + w / 2.0,
+                        y + bar * 0.68
+                    );
+                }
+            }
+            x += w;
+        }
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{}\">{} claims</text>",
+            x + 6.0,
+            y + bar * 0.68,
+            t.iter().sum::<usize>()
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// A published claim drawn over its measured value, on a scale of its own
+/// (SVG, 240 x 30): the margin as a band around the published value (or the
+/// allowed side of a threshold), the published value as a line, and the
+/// measured value (over the seed sets where there are some) as a dot with
+/// its +-2 SE bar, coloured by verdict. Empty when there is nothing to draw.
+pub fn claim_svg(x: &Row) -> String {
+    let (m, se) = match &x.seed_sets {
+        Some(s) => (s.measured, s.error),
+        None => (x.measured, x.error),
+    };
+    let (Some(m), Some(t)) = (m, x.tolerance) else {
+        return String::new();
+    };
+    let se = se.filter(|e| e.is_finite()).unwrap_or(0.0);
+    // the published interval: [target - margin, target + margin], or the
+    // threshold and the side it allows
+    let (lo_p, hi_p, line) = match (x.test.as_str(), x.published) {
+        ("within", Some(p)) => (p - t, p + t, p),
+        ("above", _) => (t, f64::INFINITY, t),
+        ("below", _) => (f64::NEG_INFINITY, t, t),
+        _ => return String::new(),
+    };
+    let pts = [m - 2.0 * se, m + 2.0 * se, line, lo_p, hi_p];
+    let finite: Vec<f64> = pts.iter().copied().filter(|v| v.is_finite()).collect();
+    let (mut lo, mut hi) = finite
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let pad = ((hi - lo) * 0.15).max(1e-9 + 0.05 * m.abs().max(line.abs()));
+    lo -= pad;
+    hi += pad;
+    let (w, h) = (240.0, 30.0);
+    let sx = |v: f64| (v.clamp(lo, hi) - lo) / (hi - lo) * (w - 10.0) + 5.0;
+    let colour = match x.final_verdict() {
+        "reproduced" => VERDICT_COLOURS[0],
+        "not-reproduced" => VERDICT_COLOURS[1],
+        _ => VERDICT_COLOURS[2],
+    };
+    let mut s = format!(
+        "<svg viewBox=\"0 0 {w} {h}\" width=\"{w}\" height=\"{h}\" role=\"img\" aria-label=\"published {} against measured {}\">",
+        esc(&published(x)),
+        esc(&measured(x))
+    );
+    let (a, b) = (sx(lo_p), sx(hi_p));
+    let _ = write!(
+        s,
+        "<rect x=\"{a:.1}\" y=\"4\" width=\"{:.1}\" height=\"16\" fill=\"#cfe8d1\"><title>allowed by the published claim</title></rect>",
+        (b - a).max(1.0)
+    );
+    let _ = write!(
+        s,
+        "<line x1=\"{0:.1}\" x2=\"{0:.1}\" y1=\"2\" y2=\"22\" stroke=\"#1b5e20\" stroke-width=\"2\"><title>published {1}</title></line>",
+        sx(line),
+        esc(&sig(line, 4))
+    );
+    let (e0, e1, c) = (sx(m - 2.0 * se), sx(m + 2.0 * se), sx(m));
+    let _ = write!(
+        s,
+        "<line x1=\"{e0:.1}\" x2=\"{e1:.1}\" y1=\"12\" y2=\"12\" stroke=\"{colour}\" stroke-width=\"2\"/><circle cx=\"{c:.1}\" cy=\"12\" r=\"4\" fill=\"{colour}\"><title>measured {}</title></circle>",
+        esc(&sig(m, 4))
+    );
+    let _ = write!(
+        s,
+        "<text x=\"2\" y=\"29\" font-size=\"8\" font-family=\"sans-serif\" fill=\"#555\">{}</text><text x=\"{}\" y=\"29\" font-size=\"8\" font-family=\"sans-serif\" fill=\"#555\" text-anchor=\"end\">{}</text></svg>",
+        esc(&sig(lo, 3)),
+        w - 2.0,
+        esc(&sig(hi, 3))
+    );
+    s
+}
+
+/// One card per figure: its first picture, and each published claim of
+/// the default reading with the claim drawn over the measurement
+/// ([`claim_svg`]) and its verdict.
+fn figure_cards(r: &Report, h: &mut String) {
+    let base = esc(&r.figures_base);
+    let _ = writeln!(
+        h,
+        "<h2>The figures</h2>\n<p class=\"small\">Each claim: the green band is what the published value and its margin allow, the line the published value, the dot the measured value with &plusmn;2 SE (over the committed seed sets where there are some), coloured by verdict.</p>\n<div class=\"cards\">"
+    );
+    // the papers' order of figures, then any other
+    let mut figures: Vec<&FigureReport> = r.figures.iter().collect();
+    let order = crate::experiments::ORDER;
+    figures.sort_by_key(|f| {
+        order
+            .iter()
+            .position(|b| *b == f.run.binary)
+            .unwrap_or(order.len())
+    });
+    for f in figures {
+        let b = esc(&f.run.binary);
+        let claims: Vec<&Row> = r
+            .rows
+            .iter()
+            .filter(|x| x.binary == f.run.binary && x.is_default_claim())
+            .collect();
+        let [y, n, u] = final_tally(claims.iter().copied());
+        let _ = writeln!(
+            h,
+            "<section class=\"fcard\" id=\"card-{b}\"><h3>{} <code>{b}</code></h3><p class=\"small\">{y} reproduced, {n} not reproduced, {u} undecided</p>",
+            esc(&f.paper)
+        );
+        if let Some(p) = f.pngs.first() {
+            let _ = writeln!(
+                h,
+                "<a href=\"{base}{b}/{p}\"><img src=\"{base}{b}/{p}\" alt=\"{} ({p})\" loading=\"lazy\"></a>",
+                esc(&f.paper),
+                p = esc(p)
+            );
+        }
+        let _ = writeln!(h, "<table class=\"claims\"><tbody>");
+        for x in claims {
+            let v = x.final_verdict();
+            let _ = writeln!(
+                h,
+                "<tr><td><code title=\"{}\">{}</code><br><span class=\"small\">published {}<br>measured {}</span><br>{}</td><td class=\"{v} v\">{}</td></tr>",
+                esc(&x.note),
+                esc(&x.name),
+                esc(&published_or_claim(x)),
+                esc(&final_measured(x)),
+                claim_svg(x),
+                esc(&v.replace('-', " "))
+            );
+        }
+        let _ = writeln!(h, "</tbody></table></section>");
+    }
+    let _ = writeln!(h, "</div>");
+}
+
+/// The published value with its margin, or the claim's threshold.
+fn published_or_claim(x: &Row) -> String {
+    match (x.test.as_str(), x.published, x.tolerance) {
+        ("above", _, Some(t)) => format!("> {}", sig(t, 4)),
+        ("below", _, Some(t)) => format!("< {}", sig(t, 4)),
+        _ => published(x),
+    }
+}
+
+/// The measured value over the seed sets where there are some, else this
+/// run's.
+fn final_measured(x: &Row) -> String {
+    match &x.seed_sets {
+        Some(s) => match (s.measured, s.error) {
+            (Some(m), Some(e)) => format!("{} ± {} ({} seed sets)", sig(m, 4), sig(e, 2), s.seeds),
+            (m, _) => format!("{} ({} seed sets)", num(m), s.seeds),
+        },
+        None => format!(
+            "{}{}",
+            measured(x),
+            x.runs.map_or(String::new(), |n| format!(" ({n} runs)"))
+        ),
+    }
 }
 
 #[cfg(test)]

@@ -243,3 +243,37 @@ fn a_quick_run_says_what_the_published_set_up_decided() {
     );
     assert!(granular_automata::run::at_published_set_up("no-such-figure").is_none());
 }
+
+/// The committed report is a page to look at: its headline is a picture,
+/// one bar per paper, under it one sentence of at most 25 words, and every
+/// figure has a card whose claims are drawn over their measurements.
+#[test]
+fn the_report_page_shows_its_headline_and_a_card_per_figure() {
+    let html = std::fs::read_to_string(dir().join("index.html")).unwrap();
+    let glance = html
+        .split("<figure class=\"glance\">")
+        .nth(1)
+        .expect("a headline picture");
+    let (svg, rest) = glance.split_once("</svg>").unwrap();
+    for paper in ["PH94", "PH95", "BB90"] {
+        assert!(
+            svg.contains(&format!(">{paper}</text>")),
+            "a bar for {paper}"
+        );
+    }
+    let caption = rest
+        .split("<figcaption>")
+        .nth(1)
+        .and_then(|c| c.split("</figcaption>").next())
+        .unwrap();
+    assert!(caption.split_whitespace().count() <= 25, "{caption}");
+    let figures = report()["figures"].as_array().unwrap().len();
+    assert_eq!(html.matches("<section class=\"fcard\"").count(), figures);
+    assert!(
+        html.matches("aria-label=\"published").count() >= 100,
+        "claims drawn"
+    );
+    assert!(dir().join("headline.svg").is_file());
+    let md = std::fs::read_to_string(dir().join("REPORT.md")).unwrap();
+    assert!(md.contains("](headline.svg)"));
+}
