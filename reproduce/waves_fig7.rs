@@ -73,19 +73,19 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     }
     let wall = start.elapsed().as_secs_f64();
 
-    let mut lines = spectrum_lines(&ens[0], "p = 0, b = 0.5", 0);
-    lines.extend(spectrum_lines(&ens[1], "b = 0, p = 0.5", 3));
-    spectra_chart(
-        &out.path("waves-fig7.png"),
-        &format!("PH95 Fig. 7: spectra without dissipation or roughness, L = 220, {runs} runs, rules {rules}"),
-        &lines,
-    )?;
-
     let metrics = white_noise::metrics(&ens);
     let mut checks = match args.common.tier.is_acceptance() {
         true => white_noise::acceptance_checks(&setup0, &ens)?,
         false => white_noise::checks(&setup0, &ens),
     };
+    // each spectrum with the published alpha (white noise) and its margin
+    let mut lines = spectrum_lines(&ens[0], "p = 0, b = 0.5", 0);
+    lines.extend(white_noise::published_lines(&checks, "alpha_p0", &ens[0]));
+    lines.extend(spectrum_lines(&ens[1], "b = 0, p = 0.5", 3));
+    lines.extend(white_noise::published_lines(&checks, "alpha_b0", &ens[1]));
+    let title = "PH95 Fig. 7: spectra without dissipation or roughness, L = 220";
+    let title = format!("{title}, {runs} runs, rules {rules}");
+    spectra_chart(&out.path("waves-fig7.png"), &title, &lines)?;
     mark_discrepancies(&mut checks, DISCREPANCY);
     out.finish(&Summary {
         figure: "waves-fig7".into(),

@@ -12,6 +12,7 @@ use crate::pipe::{Params, Rules};
 use crate::plot::{line_chart_at, Line, PALETTE};
 use crate::run::{ensemble, mean_sem};
 use plotters::chart::SeriesLabelPosition;
+use plotters::style::RGBColor;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -232,8 +233,63 @@ pub fn combine(setup: &SpectrumSetup, runs: Vec<SpectrumRun>) -> Result<Spectrum
 
 /// Log-log plot of the averaged spectrum with the fitted line over the fit
 /// range and the peak marked.
-pub fn plot_spectrum(path: &Path, title: &str, ens: &SpectrumEnsemble, label: &str) -> Result<()> {
-    spectra_chart(path, title, &spectrum_lines(ens, label, 0))
+pub fn plot_spectrum(
+    path: &Path,
+    title: &str,
+    ens: &SpectrumEnsemble,
+    label: &str,
+    published: Option<Published>,
+    published_peak: Option<(f64, f64)>,
+) -> Result<()> {
+    let mut lines = spectrum_lines(ens, label, 0);
+    if let Some(alpha) = published {
+        lines.extend(published_alpha_lines(ens, alpha));
+    }
+    // the published wave speed v as the bin j where its peak would be, at
+    // the height of the measured peak
+    if let Some((v, j)) = published_peak {
+        let y = ens.mean_spectrum[ens.j_peak];
+        lines.push(
+            Line::new(
+                &format!("published v = {v} (j = {j:.0})"),
+                vec![(j, y)],
+                RGBColor(0, 0, 0),
+            )
+            .markers(),
+        );
+    }
+    spectra_chart(path, title, &lines)
+}
+
+/// The published exponent drawn over a spectrum: a line of slope -alpha
+/// (black) and the two of slope -(alpha +- margin) (grey, the margin's
+/// edges) across the fit window, through the fit of `ens` at the window's
+/// geometric centre, so the measured slope is seen against the published.
+pub fn published_alpha_lines(ens: &SpectrumEnsemble, (alpha, margin): Published) -> Vec<Line> {
+    let fit = &ens.fit_of_mean.fit;
+    let (lo, hi) = crate::analysis::fit::default_fit_range(ens.mean_spectrum.len());
+    let jc = ((lo * hi) as f64).sqrt();
+    let yc = 10f64.powf(fit.log10_amplitude - fit.alpha * jc.log10());
+    let line = |a: f64| -> Vec<(f64, f64)> {
+        [lo as f64, hi as f64]
+            .iter()
+            .map(|&j| (j, yc * (j / jc).powf(-a)))
+            .collect()
+    };
+    let (black, grey) = (RGBColor(0, 0, 0), RGBColor(150, 150, 150));
+    vec![
+        Line::new(&format!("published alpha = {alpha}"), line(alpha), black),
+        Line::new(
+            &format!("published alpha - margin {margin:.3}"),
+            line(alpha - margin),
+            grey,
+        ),
+        Line::new(
+            &format!("published alpha + margin {margin:.3}"),
+            line(alpha + margin),
+            grey,
+        ),
+    ]
 }
 
 /// Log-log chart of spectra against j (lines from [`spectrum_lines`]), the
@@ -446,6 +502,19 @@ pub fn run_figure(
         ),
         &ens,
         &format!("P(j), mean of {runs} runs, m = {}", setup.m),
+        // the margin the alpha check grades with at this tier
+        Some((
+            fig.alpha.0,
+            margin("alpha")
+                .filter(|_| acceptance)
+                .map_or(fig.alpha.1, |m| m.delta()),
+        )),
+        fig.v_peak.map(|(v, _)| {
+            (
+                v,
+                v * 2.0 * setup.m as f64 * setup.t0 as f64 / p.length as f64,
+            )
+        }),
     )?;
     let mut metrics = std::collections::BTreeMap::new();
     metrics.insert("alpha".to_string(), ens.alpha);

@@ -99,3 +99,19 @@ pub fn acceptance_checks(
     }
     Ok(checks)
 }
+
+/// The published alpha of check `name` among `checks` (a claim within a
+/// margin) drawn over the spectrum of `ens` ([`super::spectra::published_alpha_lines`]);
+/// none when the check states no such claim.
+pub fn published_lines(
+    checks: &[crate::run::Check],
+    name: &str,
+    ens: &super::spectra::SpectrumEnsemble,
+) -> Vec<crate::plot::Line> {
+    match checks.iter().find(|c| c.name == name).and_then(|c| c.claim) {
+        Some(crate::analysis::grading::Claim::Within { target, margin }) => {
+            super::spectra::published_alpha_lines(ens, (target, margin))
+        }
+        _ => vec![],
+    }
+}
