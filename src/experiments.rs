@@ -104,7 +104,7 @@ pub const ORDER: [&str; 15] = [
 /// A number with 4 significant digits (`-` when absent).
 fn num(v: &Value) -> String {
     match v.as_f64() {
-        Some(x) if x == 0.0 => "0".into(),
+        Some(0.0) => "0".into(),
         Some(x) if x.is_finite() => {
             let digits = (3 - x.abs().log10().floor() as i32).clamp(0, 8) as usize;
             format!("{x:.digits$}")

@@ -740,7 +740,16 @@ fn report_over_edited_summary(
 /// it used to count as run, or as reproduced.
 #[test]
 fn report_refuses_malformed_summaries() {
-    let cases: Vec<(&str, Box<dyn Fn(&str) -> String>, &str)> = vec![
+    // a summary edited as JSON: parse, apply `f`, write back
+    type Edit = Box<dyn Fn(&str) -> String>;
+    let json = |f: fn(&mut serde_json::Value)| -> Edit {
+        Box::new(move |t| {
+            let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
+            f(&mut v);
+            v.to_string()
+        })
+    };
+    let cases: Vec<(&str, Edit, &str)> = vec![
         (
             "truncated",
             Box::new(|t| t[..t.len() / 2].to_string()),
@@ -764,40 +773,25 @@ fn report_refuses_malformed_summaries() {
         ),
         (
             "null-measured",
-            Box::new(|t| {
-                let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
-                let c = &mut v["checks"][0];
-                c["verdict"] = "reproduced".into();
-                c["measured"] = serde_json::Value::Null;
-                v.to_string()
+            json(|v| {
+                v["checks"][0]["verdict"] = "reproduced".into();
+                v["checks"][0]["measured"] = serde_json::Value::Null;
             }),
             "`measured` is null",
         ),
         (
             "bogus-verdict",
-            Box::new(|t| {
-                let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
-                v["checks"][0]["verdict"] = "bogus".into();
-                v.to_string()
-            }),
+            json(|v| v["checks"][0]["verdict"] = "bogus".into()),
             "`verdict` is \"bogus\"",
         ),
         (
             "bogus-kind",
-            Box::new(|t| {
-                let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
-                v["checks"][0]["kind"] = "folklore".into();
-                v.to_string()
-            }),
+            json(|v| v["checks"][0]["kind"] = "folklore".into()),
             "`kind` is \"folklore\"",
         ),
         (
             "other-tier",
-            Box::new(|t| {
-                let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
-                v["tier"] = "paper".into();
-                v.to_string()
-            }),
+            json(|v| v["tier"] = "paper".into()),
             "of the paper tier, this report's is acceptance",
         ),
     ];

@@ -129,6 +129,25 @@ pub fn draw_correlation(out: &Output, stem: &str, inject: f64, cs: &CorrSpeed) -
             .map(|(t, &y)| ((t as u64 * every) as f64, y))
             .collect()
     };
+    // the published peak T_c = 880 (v = 0.34), measured at I = 0.5
+    let published: Vec<Line> = (inject == 0.5)
+        .then(|| {
+            let ys = up
+                .iter()
+                .chain(down.iter())
+                .copied()
+                .filter(|y| y.is_finite());
+            let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+                (a.min(y), b.max(y))
+            });
+            Line::new(
+                "published T_c = 880 (v = 0.34)",
+                vec![(880.0, lo), (880.0, hi)],
+                plotters::style::RGBColor(0, 0, 0),
+            )
+        })
+        .into_iter()
+        .collect();
     line_chart(
         &out.path(&format!("{stem}.png")),
         &format!(
@@ -138,23 +157,27 @@ pub fn draw_correlation(out: &Output, stem: &str, inject: f64, cs: &CorrSpeed) -
         "T (steps)",
         "C(R, T) (fluctuations, per bin pair and sample)",
         &[
-            Line::new(
-                &format!("R = +{r}: bin i+R above i (moving up)"),
-                pts(up),
-                PALETTE[0],
-            ),
-            Line::new(
-                &format!("R = -{r}: bin i+R below i (moving down)"),
-                pts(down),
-                PALETTE[1],
-            ),
-            Line::new(
-                &format!("peak T_c = {t_c} ({dir}), v = {v_corr:.3} +- {v_corr_err:.3}"),
-                vec![(t_c, main[t_c_samples])],
-                PALETTE[2],
-            )
-            .markers(),
-        ],
+            published,
+            vec![
+                Line::new(
+                    &format!("R = +{r}: bin i+R above i (moving up)"),
+                    pts(up),
+                    PALETTE[0],
+                ),
+                Line::new(
+                    &format!("R = -{r}: bin i+R below i (moving down)"),
+                    pts(down),
+                    PALETTE[1],
+                ),
+                Line::new(
+                    &format!("peak T_c = {t_c} ({dir}), v = {v_corr:.3} +- {v_corr_err:.3}"),
+                    vec![(t_c, main[t_c_samples])],
+                    PALETTE[2],
+                )
+                .markers(),
+            ],
+        ]
+        .concat(),
         false,
     )
 }

@@ -452,6 +452,25 @@ impl SpeedReadings {
         ));
         let label = format!("runs with bands (s_low > {WAVE_RUN})");
         lines.push(Line::new(&label, points(tau, &self.wave_shift), PALETTE[3]).markers());
+        // the published speed (and its margin's edges) through the fit's
+        // intercept, in the direction the fit runs
+        let published = self.checks.iter().find(|c| c.name == "wave_speed");
+        if let Some(Claim::Within { target, margin }) = published.and_then(|c| c.claim) {
+            let sign = if fit.slope < 0.0 { -1.0 } else { 1.0 };
+            let through =
+                |v: f64| vec![(0.0, fit.intercept), (end, fit.intercept + sign * v * end)];
+            use plotters::style::RGBColor;
+            let (black, grey) = (RGBColor(0, 0, 0), RGBColor(150, 150, 150));
+            lines.push(Line::new(
+                &format!("published v = {target}"),
+                through(target),
+                black,
+            ));
+            for (edge, v) in [("-", target - margin), ("+", target + margin)] {
+                let label = format!("published v {edge} margin {margin:.3}");
+                lines.push(Line::new(&label, through(v), grey));
+            }
+        }
         let (l, p, runs) = (params.length, params.p, self.runs);
         line_chart(
             &out.path("fig5.png"),

@@ -299,11 +299,7 @@ impl Candidate for External {
             )
         };
         // a sample line lists its bins and counts (and its sites, if asked)
-        let sites = if plan.sites {
-            plan.params.sites() as usize
-        } else {
-            0
-        };
+        let sites = if plan.sites { plan.params.sites() } else { 0 };
         let max_line = 4096 + 32 * plan.params.bins() + 32 * sites;
         let text = self.call(
             "run",
