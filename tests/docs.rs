@@ -274,7 +274,7 @@ fn the_history_detector_reads_numbered_sessions() {
 fn no_file_speaks_of_how_it_was_made() {
     let mut files = vec![];
     for ext in [
-        "md", "rs", "py", "sh", "log", "json", "html", "csv", "toml", "cff", "txt",
+        "md", "rs", "py", "sh", "log", "json", "html", "csv", "tsv", "toml", "cff", "txt",
     ] {
         walk(&root(), ext, false, &mut files);
         for dir in ["src", "reproduce", "tests", "docs", "golden", ".ci"] {
