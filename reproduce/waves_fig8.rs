@@ -72,7 +72,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     let all = fig.all();
     fig.write_csv("waves-fig8.csv", &["p"], &all)?;
     plot_alpha_v(
-        fig.out.dir(),
+        &fig.out,
         "waves-fig8",
         &format!(
             "PH95 Fig. 8: L = 220, rho = 1, b = g = 0.5, {} runs/point, rules {}",

@@ -87,7 +87,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     );
     let xlabel = "mean density rho (particles per site)";
     plot_alpha_v(
-        fig.out.dir(),
+        &fig.out,
         "waves-fig9",
         &title,
         xlabel,

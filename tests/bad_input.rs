@@ -1226,3 +1226,24 @@ fn report_quotes_its_regenerate_line_and_reads_quoted_args() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("unterminated"));
 }
+
+/// A sweep's pictures are written through its output folder, so a fresh
+/// run names none of its own files as stale (they would leave the report).
+#[test]
+fn a_fresh_sweep_has_no_stale_files() {
+    let out = scratch("fresh-sweep");
+    let o = Command::new(env!("CARGO_BIN_EXE_waves-fig9"))
+        .args(["--rho", "5.99", "--runs", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        out.join("waves-fig9/waves-fig9_alpha.png").is_file(),
+        "{o:?}"
+    );
+    let s: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("waves-fig9/summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(s["stale_files"].is_null(), "{}", s["stale_files"]);
+}

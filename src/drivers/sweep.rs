@@ -375,7 +375,7 @@ pub fn sweep_chart(
 /// Plot alpha (`<stem>_alpha.png`) and v (`<stem>_v.png`) against the swept
 /// parameter with error bars (one standard error over runs).
 pub fn plot_alpha_v(
-    dir: &std::path::Path,
+    out: &crate::run::Output,
     stem: &str,
     title: &str,
     xlabel: &str,
@@ -383,7 +383,7 @@ pub fn plot_alpha_v(
 ) -> Result<()> {
     for q in [Quantity::Alpha, Quantity::V] {
         sweep_chart(
-            &dir.join(format!("{stem}_{}.png", q.name())),
+            &out.path(&format!("{stem}_{}.png", q.name())),
             &format!("{title}: {}", q.name()),
             xlabel,
             q,
