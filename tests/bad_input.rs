@@ -129,6 +129,11 @@ fn merge_errors_name_the_path() {
 }
 
 /// A scratch folder of this test file, emptied.
+/// The JSON file at `path` (a summary, a run file).
+fn json_at(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
 fn scratch(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&dir);
@@ -864,8 +869,7 @@ fn stale_outputs_of_an_earlier_run_are_named_and_not_reported() {
         text.contains("old-plot.png") && text.contains("stale_files"),
         "{text}"
     );
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(fig.join("summary.json")).unwrap()).unwrap();
+    let s = json_at(&fig.join("summary.json"));
     assert_eq!(
         s["stale_files"],
         serde_json::json!(["old-plot.png", "old.csv"])
@@ -967,8 +971,7 @@ fn a_resealed_run_with_a_short_series_is_refused() {
         }
     }
     assert_eq!(files.len(), 1, "{files:?}");
-    let mut v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&files[0]).unwrap()).unwrap();
+    let mut v = json_at(&files[0]);
     let body = v.as_object_mut().unwrap();
     body.remove("checksum");
     let series = body["result"]["contrast"]
@@ -1019,9 +1022,7 @@ fn zero_or_one_run_decides_nothing_and_has_no_error_bar() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("fig2/summary.json")).unwrap())
-            .unwrap();
+    let s = json_at(&out.join("fig2/summary.json"));
     assert!(s["metrics"]["alpha_err"].is_null(), "{}", s["metrics"]);
     assert!(
         s["missing_metrics"]["alpha_err"].is_string(),
@@ -1241,9 +1242,6 @@ fn a_fresh_sweep_has_no_stale_files() {
         out.join("waves-fig9/waves-fig9_alpha.png").is_file(),
         "{o:?}"
     );
-    let s: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(out.join("waves-fig9/summary.json")).unwrap(),
-    )
-    .unwrap();
+    let s = json_at(&out.join("waves-fig9/summary.json"));
     assert!(s["stale_files"].is_null(), "{}", s["stale_files"]);
 }
