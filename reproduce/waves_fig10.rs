@@ -34,8 +34,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         &[0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0][..],
     );
     let bv: Vec<f64> = bs.iter().copied().filter(|&b| b >= 0.25).collect();
-    // rho = 1, p = g = b = 0.5
-    let base = Params::default();
+    let base = Params::default(); // rho = 1, p = g = b = 0.5
     let point = |b: f64, g: f64| SweepPoint {
         label: format!("b{b}_g{g}"),
         x: vec![b, g],
@@ -78,6 +77,17 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     );
     let b_label = "wall roughness b (bounce-back probability)";
     let g_low = format!("g = {G_LOW}");
+    let (b0, bmid) = (rb[0], find(&point(0.5, 0.5)));
+    let mut checks = vec![
+        fig7_check(
+            "b0_matches_waves_fig7",
+            b0,
+            fig7_reference(tier, Fig7Case::B0),
+            "b = 0, p = 0.5",
+        ),
+        rise_check("alpha_rises_with_b", b0, bmid, "b = 0", "b = 0.5"),
+    ];
+    checks.extend(claim_checks(fig10_claims(&fig.all())));
     for (png, what, xlabel, q, curves) in [
         (
             "waves-fig10a_b.png",
@@ -126,21 +136,11 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
             xlabel,
             q,
             &curves,
+            &checks,
             None,
         )?;
     }
 
-    let (b0, bmid) = (rb[0], find(&point(0.5, 0.5)));
-    let mut checks = vec![
-        fig7_check(
-            "b0_matches_waves_fig7",
-            b0,
-            fig7_reference(tier, Fig7Case::B0),
-            "b = 0, p = 0.5",
-        ),
-        rise_check("alpha_rises_with_b", b0, bmid, "b = 0", "b = 0.5"),
-    ];
-    checks.extend(claim_checks(fig10_claims(&fig.all())));
     fig.finish(
         json!({"base": base, "b": bs, "g": gs, "b_for_v": bv, "g_low": G_LOW, "setup": fig.setup_of(base)}),
         fig.metrics(),

@@ -107,9 +107,6 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
 
     let out = Output::new(&c.out, "waves-fig12")?;
     bisections.write_csv(&out)?;
-    if !res.is_empty() {
-        plot_spectra(&out, &res, &main_pipe, sruns, i_c, rules)?;
-    }
     plot_nt(&out, &nt, &main_pipe, runs)?;
     let (with_spectra, nt, clog) = (!args.no_spectra, &nt, &clog);
     let (bisections, spectra) = (&bisections, &res);
@@ -122,6 +119,9 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         runs,
     };
     let (checks, metrics) = (critical::checks(&measured), measured.metrics());
+    if !res.is_empty() {
+        plot_spectra(&out, &res, &main_pipe, (sruns, i_c), rules, &checks)?;
+    }
     let thr = trend_threshold(runs);
     let base = Params {
         p: 0.5,

@@ -71,21 +71,6 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
 
     let all = fig.all();
     fig.write_csv("waves-fig8.csv", &["p"], &all)?;
-    plot_alpha_v(
-        &fig.out,
-        "waves-fig8",
-        &format!(
-            "PH95 Fig. 8: L = 220, rho = 1, b = g = 0.5, {} runs/point, rules {}",
-            fig.runs, fig.rules
-        ),
-        "dissipation p",
-        &[Curve {
-            label: "b = g = 0.5, rho = 1",
-            points: &all,
-            xi: 0,
-        }],
-    )?;
-
     let (r0, r5) = (fig.find("p0"), fig.find("p0.5"));
     let mut checks = vec![
         fig7_check(
@@ -126,6 +111,21 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
             ));
         }
     }
+    plot_alpha_v(
+        &fig.out,
+        "waves-fig8",
+        &format!(
+            "PH95 Fig. 8: L = 220, rho = 1, b = g = 0.5, {} runs/point, rules {}",
+            fig.runs, fig.rules
+        ),
+        "dissipation p",
+        &[Curve {
+            label: "b = g = 0.5, rho = 1",
+            points: &all,
+            xi: 0,
+        }],
+        &checks,
+    )?;
     fig.finish(
         json!({"base": base, "p": ps, "setup": fig.setup_of(base)}),
         fig.metrics(),

@@ -86,6 +86,9 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         base.length, fig.rules
     );
     let xlabel = "mean density rho (particles per site)";
+    let mut metrics = fig.metrics();
+    let mut checks = fig9_validity(res, runs, &mut metrics);
+    checks.extend(claim_checks(fig9_claims(&all)));
     plot_alpha_v(
         &fig.out,
         "waves-fig9",
@@ -96,6 +99,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
             points: &all,
             xi: 0,
         }],
+        &checks,
     )?;
     let frac: Vec<(f64, f64, f64)> = res
         .iter()
@@ -110,9 +114,6 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         SeriesLabelPosition::UpperLeft,
     )?;
 
-    let mut metrics = fig.metrics();
-    let mut checks = fig9_validity(res, runs, &mut metrics);
-    checks.extend(claim_checks(fig9_claims(&all)));
     fig.finish(
         json!({"base": base, "rho": rhos, "setup": fig.setup_of(base)}),
         metrics,

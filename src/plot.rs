@@ -37,6 +37,33 @@ pub fn captioned(title: &str) -> String {
     }
 }
 
+/// The paper's claims about the figure a process draws, written under every
+/// PNG it draws ([`set_published_note`]); empty: nothing.
+static PUBLISHED_NOTE: RwLock<String> = RwLock::new(String::new());
+
+/// Write `note` (what the paper publishes about the figure) in a strip under
+/// every PNG drawn from now on (empty: none). Set by `run::Figure::start`.
+pub fn set_published_note(note: &str) {
+    if let Ok(mut n) = PUBLISHED_NOTE.write() {
+        *n = note.to_string();
+    }
+}
+
+/// `text` broken at spaces into lines of at most `width` characters.
+pub fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split_whitespace() {
+        match lines.last_mut() {
+            Some(l) if l.chars().count() + 1 + word.chars().count() <= width => {
+                l.push(' ');
+                l.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
+}
+
 /// Register the embedded DejaVu Sans font with plotters (idempotent).
 pub fn register_fonts() {
     REGISTER.call_once(|| {
@@ -54,16 +81,45 @@ pub fn plot_err<E: std::fmt::Display>(e: E) -> Error {
     Error::new(ErrorKind::Io, format!("plotting failed: {e}"))
 }
 
-/// Draw a PNG of `size` pixels to `path`: a white background, then `draw`.
+/// Draw a PNG of `size` pixels to `path`: a white background, then `draw`;
+/// with a published note ([`set_published_note`]), a strip that states it is
+/// added under the `size` pixels that `draw` gets.
 pub fn png(
     path: &Path,
     size: (u32, u32),
     draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<()>,
 ) -> Result<()> {
     register_fonts();
-    let root = BitMapBackend::new(path, size).into_drawing_area();
+    let note = PUBLISHED_NOTE.read().map(|n| n.clone()).unwrap_or_default();
+    // DejaVu Sans at 14 px averages about 7.7 px per character
+    let lines = if note.is_empty() {
+        Vec::new()
+    } else {
+        wrap(
+            &format!("Published in {note}"),
+            ((size.0 as f64 - 20.0) / 7.7) as usize,
+        )
+    };
+    let strip = if lines.is_empty() {
+        0
+    } else {
+        8 + 18 * lines.len() as u32
+    };
+    let root = BitMapBackend::new(path, (size.0, size.1 + strip)).into_drawing_area();
     root.fill(&WHITE).map_err(plot_err)?;
-    draw(&root)?;
+    let (top, foot) = root.split_vertically(size.1);
+    draw(&top)?;
+    if strip > 0 {
+        foot.fill(&RGBColor(244, 244, 244)).map_err(plot_err)?;
+        for (i, line) in lines.iter().enumerate() {
+            foot.draw(&Text::new(
+                line.clone(),
+                (10, 4 + 18 * i as i32),
+                (FONT, 14).into_font().color(&BLACK),
+            ))
+            .map_err(plot_err)?;
+        }
+    }
     root.present().map_err(plot_err)?;
     Ok(())
 }
@@ -327,20 +383,25 @@ where
             .filter(|&(x, y)| x.is_finite() && y.is_finite() && (!log || (x > 0.0 && y > 0.0)))
             .collect();
         let color = l.color;
+        // a line without a label stays out of the legend
         if l.markers {
-            chart
+            let drawn = chart
                 .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
-                .map_err(plot_err)?
-                .label(l.label.clone())
-                .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
+                .map_err(plot_err)?;
+            if !l.label.is_empty() {
+                drawn
+                    .label(l.label.clone())
+                    .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
+            }
         } else {
-            chart
+            let drawn = chart
                 .draw_series(LineSeries::new(pts, color.stroke_width(2)))
-                .map_err(plot_err)?
-                .label(l.label.clone())
-                .legend(move |(x, y)| {
+                .map_err(plot_err)?;
+            if !l.label.is_empty() {
+                drawn.label(l.label.clone()).legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                 });
+            }
         }
     }
     draw_legend(&mut chart, legend)
@@ -594,6 +655,11 @@ pub fn errorbar_chart(
 /// height per series (plus 6%), the data scaled to the chart's bounds. Ties
 /// go to upper right, upper left, lower right, lower left, in that order.
 pub fn free_corner(series: &[ErrSeries]) -> SeriesLabelPosition {
+    free_corner_rows(series, series.len())
+}
+
+/// [`free_corner`] for a legend of `rows` lines.
+pub fn free_corner_rows(series: &[ErrSeries], rows: usize) -> SeriesLabelPosition {
     let pts: Vec<(f64, f64)> = series
         .iter()
         .flat_map(|s| s.points.iter())
@@ -607,7 +673,7 @@ pub fn free_corner(series: &[ErrSeries]) -> SeriesLabelPosition {
     let ((x0, x1), (y0, y1)) = bounds(&envelope, false);
     let xpad = 0.04 * (x1 - x0);
     let (x0, x1) = (x0 - xpad, x1 + xpad);
-    let (w, h) = (0.45, 0.06 + 0.08 * series.len() as f64);
+    let (w, h) = (0.45, 0.06 + 0.08 * rows as f64);
     let corners = [
         (SeriesLabelPosition::UpperRight, true, true),
         (SeriesLabelPosition::UpperLeft, false, true),
@@ -639,6 +705,48 @@ pub fn errorbar_chart_at(
     series: &[ErrSeries],
     legend: SeriesLabelPosition,
 ) -> Result<()> {
+    let none = Marks::default();
+    errorbar_chart_marked(path, title, xlabel, ylabel, series, &none, legend)
+}
+
+/// Boxes of the values a claim allows: (x, lowest, highest).
+pub type Boxes = Vec<(f64, f64, f64)>;
+
+/// What a paper publishes about an error-bar chart's points: boxes of the
+/// values a claim allows, and claims without a number as legend lines.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Marks {
+    /// One entry per claim wording: its legend label and its boxes
+    /// (x, lowest, highest allowed value).
+    pub bands: Vec<(String, Boxes)>,
+    /// Claims without a number, one legend line each.
+    pub notes: Vec<String>,
+}
+
+impl Marks {
+    /// The legend lines the marks add.
+    pub fn rows(&self) -> usize {
+        self.bands.len() + self.notes.len()
+    }
+}
+
+/// Fill colours of the published boxes, one per claim wording.
+const BAND_COLORS: [RGBColor; 3] = [
+    RGBColor(150, 150, 150),
+    RGBColor(230, 170, 60),
+    RGBColor(120, 190, 120),
+];
+
+/// [`errorbar_chart_at`] with the published `marks` drawn under the points.
+pub fn errorbar_chart_marked(
+    path: &Path,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    series: &[ErrSeries],
+    marks: &Marks,
+    legend: SeriesLabelPosition,
+) -> Result<()> {
     let finite = |s: &ErrSeries| -> Vec<(f64, f64, f64)> {
         s.points
             .iter()
@@ -657,6 +765,13 @@ pub fn errorbar_chart_at(
                 .collect();
             Line::new("", pts, s.color)
         })
+        .chain(marks.bands.iter().map(|(_, boxes)| {
+            let pts = boxes
+                .iter()
+                .flat_map(|&(x, lo, hi)| [(x, lo), (x, hi)])
+                .collect();
+            Line::new("", pts, BLACK)
+        }))
         .collect();
     let ((x0, x1), (y0, y1)) = bounds(&envelope, false);
     let xpad = 0.04 * (x1 - x0);
@@ -665,6 +780,31 @@ pub fn errorbar_chart_at(
             .build_cartesian_2d((x0 - xpad)..(x1 + xpad), y0..y1)
             .map_err(plot_err)?;
         draw_axes(&mut chart, xlabel, ylabel, false)?;
+        let half = 0.02 * (x1 - x0 + 2.0 * xpad);
+        for (i, (label, boxes)) in marks.bands.iter().enumerate() {
+            let fill = BAND_COLORS[i % BAND_COLORS.len()].mix(0.45);
+            chart
+                .draw_series(
+                    boxes
+                        .iter()
+                        .filter(|b| b.0.is_finite())
+                        .map(|&(x, lo, hi)| {
+                            Rectangle::new([(x - half, lo), (x + half, hi)], fill.filled())
+                        }),
+                )
+                .map_err(plot_err)?
+                .label(label.clone())
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x + 4, y - 6), (x + 16, y + 6)], fill.filled())
+                });
+        }
+        for note in &marks.notes {
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                .map_err(plot_err)?
+                .label(note.clone())
+                .legend(|(x, y)| Text::new("*", (x + 6, y - 8), (FONT, 16).into_font()));
+        }
         for s in series {
             let pts = finite(s);
             let color = s.color;

@@ -193,6 +193,56 @@ pub struct Check {
     /// What is measured and why the margin; for a failing published check,
     /// the known discrepancy.
     pub note: String,
+    /// Where the claim goes on the figure's chart ([`Drawn`]); not written
+    /// to summary.json.
+    #[serde(skip)]
+    pub drawn: Option<Drawn>,
+}
+
+/// What a published claim about plotted points looks like on a chart: a band
+/// of the values it allows at one point, or a statement in the legend.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Drawn {
+    /// The claim allows `quantity` (`alpha` or `v`) in `lo..=hi` at the
+    /// point labelled `point`; `label` names the claim in the legend.
+    Band {
+        /// The plotted quantity's name.
+        quantity: &'static str,
+        /// The point's label (e.g. `p0.05`).
+        point: String,
+        /// The lowest value the claim allows.
+        lo: f64,
+        /// The highest value the claim allows.
+        hi: f64,
+        /// The legend's words for the claim.
+        label: String,
+    },
+    /// A claim without a number about `quantity` at `points` (all of them
+    /// must be on the chart), stated in the legend as `label`.
+    Note {
+        /// The plotted quantity's name.
+        quantity: &'static str,
+        /// The labels of the points the claim compares.
+        points: Vec<String>,
+        /// The legend's words for the claim.
+        label: String,
+    },
+}
+
+impl Drawn {
+    /// The quantity the claim is about.
+    pub fn quantity(&self) -> &'static str {
+        match self {
+            Drawn::Band { quantity, .. } | Drawn::Note { quantity, .. } => quantity,
+        }
+    }
+
+    /// The legend's words.
+    pub fn label(&self) -> &str {
+        match self {
+            Drawn::Band { label, .. } | Drawn::Note { label, .. } => label,
+        }
+    }
 }
 
 impl Check {
@@ -230,7 +280,14 @@ impl Check {
             verdict,
             pass: verdict == Verdict::Reproduced,
             note,
+            drawn: None,
         }
+    }
+
+    /// This check, drawn on its figure's chart as `drawn`.
+    pub fn drawn(mut self, drawn: Drawn) -> Self {
+        self.drawn = Some(drawn);
+        self
     }
 
     /// A check against the paper (`source` names paper and figure).
@@ -275,6 +332,7 @@ impl Check {
             verdict,
             pass: holds,
             note: note.to_string(),
+            drawn: None,
         }
     }
 
@@ -346,6 +404,7 @@ impl Check {
             verdict: Verdict::Undecided,
             pass: false,
             note: format!("BLIND (published value withheld): {note}"),
+            drawn: None,
         }
     }
 
@@ -595,9 +654,33 @@ pub struct Output {
     named: std::sync::Arc<std::sync::Mutex<std::collections::BTreeSet<String>>>,
 }
 
+/// What the papers publish about each figure, in a line: written under every
+/// PNG the figure draws ([`Output::new`], [`crate::plot::set_published_note`]),
+/// so that a picture is seen against the claims it is graded by.
+pub const PUBLISHED: [(&str, &str); 15] = [
+    ("fig1", "PH94 Fig. 1: density waves at p = 0.1 (a) and again once dissipation is back on (c); none at p = 0 (b) or with smooth walls, b = 0 (d)."),
+    ("fig2", "PH94 Fig. 2: 1/f^alpha density noise with alpha = 1.33 +- 0.02 (fit 40 <= f <= 1000); spectral peak near f = 596, v = 0.40."),
+    ("waves-fig2", "PH95 Fig. 2: density waves form from the random start."),
+    ("waves-fig3", "PH95 Fig. 3: the contrast C (a) and the energy lost, E(0) - E(t) (b), rise from the start and then saturate."),
+    ("waves-fig4", "PH95 Fig. 4, III B: a wave profile whose front is sharper than its back; its width grows about linearly with L."),
+    ("waves-fig5", "PH95 Fig. 5, III C: bands travel at L = 512 with v = 0.36 +- 0.05 from the shift of maximal overlap, the same as from the spectral peak."),
+    ("waves-fig6", "PH95 Fig. 6, III D: alpha about 1.33 at p = 0.8."),
+    ("waves-fig7", "PH95 Fig. 7, III E: white noise (alpha = 0) at p = 0 and at b = 0; at b = 0 a large peak at v = 1/2 exactly."),
+    ("waves-fig8", "PH95 Fig. 8: alpha about constant for every p > 0 and above its value at p = 0; v does not change with p."),
+    ("waves-fig9", "PH95 Fig. 9, III G: white noise (alpha = 0) for rho <= 0.8; alpha rises with rho above 1, to about 1.86 at rho = 2; v constant in rho."),
+    ("waves-fig10", "PH95 Fig. 10, III H: alpha constant for any b > 0 and in g; v falls as b grows from 0.25 to 1, more at the smaller g, and the larger g is faster."),
+    ("waves-fig11", "PH95 Fig. 11: the pipe at I = 0.5, g = 0.2 flows; C(R, T) peaks at T_c = 880 (v = 0.34)."),
+    ("waves-fig12", "PH95 Fig. 12, III I: I_c = 0.52 for every pipe size; N(t) stationary below I_c and growing above it (clogs at I = 0.54); 1/f noise (alpha = 1) at I_c, white noise (alpha = 0) away from it."),
+    ("hopper-fig2", "BB90 Figs. 1-2: the hopper empties through a central core of about constant width and lowered density between dense stagnant sides, under a V-shaped surface; beta = 0 is structureless (order 1/3); beta = 1 orders the fill over the container, vertically in the core, with defects."),
+    ("hopper-fig3", "BB90 Fig. 3: the outflow has no trend and a flat power spectrum (white noise); similar with orientation off; the hopper empties."),
+];
+
 impl Output {
-    /// Create (if needed) `out/<binary>/`.
+    /// Create (if needed) `out/<binary>/`, and write what the papers publish
+    /// about figure `binary` ([`PUBLISHED`]) under every PNG drawn from now on.
     pub fn new(out: &Path, binary: &str) -> Result<Self> {
+        let note = PUBLISHED.iter().find(|(b, _)| *b == binary);
+        crate::plot::set_published_note(note.map_or("", |(_, n)| n));
         let dir = out.join(binary);
         fs::create_dir_all(&dir).map_err(|e| {
             Error::new(

@@ -9,7 +9,7 @@ use super::margins::ALPHA_MARGIN;
 use super::open_pipe::{
     clogs_check, fig12_pipe, ic_check, ic_independence_check, CLOG_INJECT, TREND_EVERY,
 };
-use super::spectra::{spectra_chart, spectrum_lines};
+use super::spectra::{published_alpha_lines, spectra_chart, spectrum_lines};
 use super::sweep::{alpha_check, header, point_metrics, PointResult, SweepPoint};
 use crate::analysis::grading::{Kind, Verdict};
 use crate::cli::Common;
@@ -19,7 +19,7 @@ use crate::pipe::open::{
     bisect_ic, open_run, stationarity, trend_threshold, Stationarity, TREND_FALSE_ALARM,
 };
 use crate::pipe::{Engine, Params, Rules};
-use crate::plot::{errorbar_chart, line_chart, ErrSeries, Line, PALETTE};
+use crate::plot::{errorbar_chart_marked, free_corner_rows, line_chart, ErrSeries, Line, PALETTE};
 use crate::run::{mark_discrepancies, Check, Output};
 use serde::{Deserialize, Serialize};
 use serde_json::json;
@@ -473,28 +473,53 @@ pub fn plot_nt(
     )
 }
 
-/// Panels (a), bottom-bin spectra at 0.5, 0.9 and 1.25 I_c, and (b), alpha
-/// against I, with their CSV `waves-fig12b.csv`.
+/// Panels (a), bottom-bin spectra at 0.5, 0.9 and 1.25 I_c and where a
+/// published alpha is graded, and (b), alpha against I, with their CSV
+/// `waves-fig12b.csv`; the published alphas of `checks` drawn on both
+/// (lines of their slopes on (a), bands on (b)).
 pub fn plot_spectra(
     out: &Output,
     res: &[PointResult],
     main_pipe: &str,
-    sruns: usize,
-    i_c: f64,
+    (sruns, i_c): (usize, f64),
     rules: Rules,
+    checks: &[Check],
 ) -> Result<()> {
+    use super::sweep::{chart_marks, Curve, Quantity};
     let rows: Vec<Vec<f64>> = res.iter().map(|r| r.row()).collect();
     out.write_csv("waves-fig12b.csv", &header(&["I", "I_over_I_c"]), &rows)?;
+    let all: Vec<&PointResult> = res.iter().collect();
+    let marks = chart_marks(
+        Quantity::Alpha,
+        &[Curve {
+            label: main_pipe,
+            points: &all,
+            xi: 0,
+        }],
+        checks,
+    );
+    // (alpha, margin) of the published band at r's I, if any
+    let published = |r: &PointResult| {
+        marks
+            .bands
+            .iter()
+            .flat_map(|(_, b)| b.iter())
+            .find(|b| b.0 == r.point.x[0])
+            .map(|&(_, lo, hi)| ((lo + hi) / 2.0, (hi - lo) / 2.0))
+    };
     let mut lines = Vec::new();
     for (k, r) in res.iter().enumerate() {
         let f = r.point.x[1];
-        if [0.5, 0.9, 1.25].contains(&f) {
+        if [0.5, 0.9, 1.25].contains(&f) || published(r).is_some() {
             match &r.ensemble {
-                Some(e) => lines.extend(spectrum_lines(
-                    e,
-                    &format!("I = {} ({f} I_c)", r.point.x[0]),
-                    3 * k,
-                )),
+                Some(e) => {
+                    lines.extend(spectrum_lines(
+                        e,
+                        &format!("I = {} ({f:.3} I_c)", r.point.x[0]),
+                        3 * k,
+                    ));
+                    lines.extend(published(r).map(|a| published_alpha_lines(e, a)).into_iter().flatten());
+                }
                 None => eprintln!(
                     "waves-fig12: I = {}: no valid run (every run clogged or had a constant bottom bin), no spectrum",
                     r.point.x[0]
@@ -511,15 +536,18 @@ pub fn plot_spectra(
         .iter()
         .map(|r| (r.point.x[0], r.alpha, r.alpha_err))
         .collect();
-    errorbar_chart(
+    let series = [ErrSeries::new(
+        &format!("{main_pipe} (points with no valid run omitted: clogged or constant bin)"),
+        pts,
+        PALETTE[0],
+    )];
+    errorbar_chart_marked(
         &out.path("waves-fig12b.png"),
         &format!("PH95 Fig. 12b: alpha against I, p = b = g = 0.5 (I_c = {i_c:.3}), rules {rules}"),
         "injection rate I",
         "alpha (mean over valid runs +- SE)",
-        &[ErrSeries::new(
-            &format!("{main_pipe} (points with no valid run omitted: clogged or constant bin)"),
-            pts,
-            PALETTE[0],
-        )],
+        &series,
+        &marks,
+        free_corner_rows(&series, 1 + marks.rows()),
     )
 }

@@ -20,7 +20,7 @@ use super::margins::{ALPHA_MARGIN, V_SAME_MARGIN};
 use super::sweep::{alpha_check, same_as_check, PointResult, Quantity};
 use crate::analysis::grading::{Claim, Kind};
 use crate::pipe::Params;
-use crate::run::Check;
+use crate::run::{Check, Drawn};
 
 /// alpha at rho = 2 (PH95 III G, Fig. 9a: about 1.86).
 pub const ALPHA_RHO2: f64 = 1.86;
@@ -68,9 +68,29 @@ fn eq(x: f64, y: f64) -> bool {
     (x - y).abs() < 1e-9
 }
 
+/// The words of a claim for a chart's legend: the last parenthesis of its
+/// `source` (e.g. "v constant in rho"), after "published: ".
+fn legend_words(source: &str) -> String {
+    let words = source
+        .rfind('(')
+        .map(|i| source[i + 1..].trim_end_matches(')'))
+        .unwrap_or(source);
+    format!("published: {words}")
+}
+
+/// A claim without a number about `q` at `points`, for the chart's legend.
+fn note(q: Quantity, points: &[&PointResult], source: &str) -> Drawn {
+    Drawn::Note {
+        quantity: q.name(),
+        points: points.iter().map(|r| r.point.label.clone()).collect(),
+        label: legend_words(source),
+    }
+}
+
 /// A published claim that `q` rises from `lo` to `hi`: q(hi) - q(lo) above 0
 /// by the one grading rule.
 fn above_check(name: &str, source: &str, q: Quantity, hi: &PointResult, lo: &PointResult) -> Check {
+    let drawn = note(q, &[hi, lo], source);
     Check::published(
         name,
         source,
@@ -85,6 +105,7 @@ fn above_check(name: &str, source: &str, q: Quantity, hi: &PointResult, lo: &Poi
             hi.estimator().describe()
         ),
     )
+    .drawn(drawn)
 }
 
 /// `check()`, unless every run at one of `points` left the model's validity
@@ -339,16 +360,19 @@ pub fn fig10_claims(points: &[&PointResult]) -> Vec<Claimed> {
             let d = |lo: &PointResult, hi: &PointResult| {
                 lo.estimate(Quantity::V).minus(hi.estimate(Quantity::V))
             };
+            let source = format!("{src_b} (v more sensitive to b at the smaller g)");
+            let drawn = note(Quantity::V, &[lo5, hi5, lo2, hi2], &source);
             vec![Check::published(
                 "v_drop_larger_at_small_g",
-                &format!("{src_b} (v more sensitive to b at the smaller g)"),
+                &source,
                 d(lo2, hi2).minus(d(lo5, hi5)),
                 Claim::Above { threshold: 0.0 },
                 &format!(
                     "[v(b = {b_lo}) - v(b = {b_hi})] at g = {G_LOW} minus the same at g = 0.5 > 0 ({})",
                     mid.estimator().describe()
                 ),
-            )]
+            )
+            .drawn(drawn)]
         }
         _ => Vec::new(),
     };

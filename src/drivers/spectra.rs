@@ -278,17 +278,17 @@ pub fn published_alpha_lines(ens: &SpectrumEnsemble, (alpha, margin): Published)
     };
     let (black, grey) = (RGBColor(0, 0, 0), RGBColor(150, 150, 150));
     vec![
-        Line::new(&format!("published alpha = {alpha}"), line(alpha), black),
         Line::new(
-            &format!("published alpha - margin {margin:.3}"),
+            &format!("published alpha = {}", (alpha * 1e3).round() / 1e3),
+            line(alpha),
+            black,
+        ),
+        Line::new(
+            &format!("published alpha +- margin {margin:.3}"),
             line(alpha - margin),
             grey,
         ),
-        Line::new(
-            &format!("published alpha + margin {margin:.3}"),
-            line(alpha + margin),
-            grey,
-        ),
+        Line::new("", line(alpha + margin), grey),
     ]
 }
 

@@ -338,15 +338,20 @@ impl Quantity {
 /// Plot `q` against the swept parameter with error bars (one standard error
 /// over runs), one series per curve in the palette's order, to `path`; the
 /// legend at `legend`, or with `None` in the corner hiding the fewest points.
+///
+/// The published claims among `checks` that are drawn ([`crate::run::Drawn`])
+/// about `q` at points of the curves go on the chart too: bands of the values
+/// they allow, and claims without a number in the legend.
 pub fn sweep_chart(
     path: &std::path::Path,
     title: &str,
     xlabel: &str,
     q: Quantity,
     curves: &[Curve],
+    checks: &[crate::run::Check],
     legend: Option<plotters::chart::SeriesLabelPosition>,
 ) -> Result<()> {
-    use crate::plot::{errorbar_chart_at, free_corner, ErrSeries, PALETTE};
+    use crate::plot::{errorbar_chart_marked, free_corner_rows, ErrSeries, PALETTE};
     let series: Vec<ErrSeries> = curves
         .iter()
         .enumerate()
@@ -362,24 +367,93 @@ pub fn sweep_chart(
             ErrSeries::new(cv.label, pts, PALETTE[c % PALETTE.len()])
         })
         .collect();
-    let legend = legend.unwrap_or_else(|| free_corner(&series));
+    let marks = chart_marks(q, curves, checks);
+    let legend = legend.unwrap_or_else(|| free_corner_rows(&series, series.len() + marks.rows()));
     let estimator = curves
         .iter()
         .flat_map(|cv| cv.points.first())
         .map(|r| r.estimator())
         .next()
         .unwrap_or(Estimator::PerRun);
-    errorbar_chart_at(path, title, xlabel, q.label(estimator), &series, legend)
+    let ylabel = q.label(estimator);
+    errorbar_chart_marked(path, title, xlabel, ylabel, &series, &marks, legend)
+}
+
+/// The drawn claims of `checks` about `q` whose points are on `curves`: the
+/// bands grouped by their legend words (in order of first appearance), each
+/// at its point's x; the notes whose points are all on the chart.
+pub fn chart_marks(
+    q: Quantity,
+    curves: &[Curve],
+    checks: &[crate::run::Check],
+) -> crate::plot::Marks {
+    use crate::run::Drawn;
+    let x_of = |label: &str| {
+        curves.iter().find_map(|cv| {
+            cv.points
+                .iter()
+                .find(|r| r.point.label == label)
+                .map(|r| r.point.x[cv.xi])
+        })
+    };
+    let mut marks = crate::plot::Marks::default();
+    for d in checks.iter().filter_map(|c| c.drawn.as_ref()) {
+        if d.quantity() != q.name() {
+            continue;
+        }
+        match d {
+            Drawn::Band {
+                point,
+                lo,
+                hi,
+                label,
+                ..
+            } => {
+                let Some(x) = x_of(point) else { continue };
+                match marks.bands.iter_mut().find(|(l, _)| l == label) {
+                    Some((_, boxes)) => boxes.push((x, *lo, *hi)),
+                    None => marks.bands.push((label.clone(), vec![(x, *lo, *hi)])),
+                }
+            }
+            Drawn::Note { points, label, .. } => {
+                if points.iter().all(|p| x_of(p).is_some()) && !marks.notes.contains(label) {
+                    marks.notes.push(label.clone());
+                }
+            }
+        }
+    }
+    marks
+}
+
+/// A point's label in words: `b0.5_g0.2` -> `b = 0.5, g = 0.2`.
+pub fn point_words(label: &str) -> String {
+    label
+        .split('_')
+        .map(|part| {
+            let at = part
+                .find(|c: char| c.is_ascii_digit() || c == '-')
+                .unwrap_or(part.len());
+            let (name, value) = part.split_at(at);
+            if name.is_empty() || value.is_empty() {
+                part.to_string()
+            } else {
+                format!("{name} = {value}")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Plot alpha (`<stem>_alpha.png`) and v (`<stem>_v.png`) against the swept
-/// parameter with error bars (one standard error over runs).
+/// parameter with error bars (one standard error over runs), with the drawn
+/// claims of `checks` ([`sweep_chart`]).
 pub fn plot_alpha_v(
     out: &crate::run::Output,
     stem: &str,
     title: &str,
     xlabel: &str,
     curves: &[Curve],
+    checks: &[crate::run::Check],
 ) -> Result<()> {
     for q in [Quantity::Alpha, Quantity::V] {
         sweep_chart(
@@ -388,6 +462,7 @@ pub fn plot_alpha_v(
             xlabel,
             q,
             curves,
+            checks,
             None,
         )?;
     }
@@ -555,6 +630,7 @@ pub fn same_as_check(
     margin: f64,
     derivation: &str,
 ) -> crate::run::Check {
+    let centre = reference.estimate(q).mean;
     crate::run::Check::published(
         name,
         source,
@@ -572,6 +648,16 @@ pub fn same_as_check(
             r.estimator().describe()
         ),
     )
+    .drawn(crate::run::Drawn::Band {
+        quantity: q.name(),
+        point: r.point.label.clone(),
+        lo: centre - margin,
+        hi: centre + margin,
+        label: format!(
+            "published: as at {} (+- Delta)",
+            point_words(&reference.point.label)
+        ),
+    })
 }
 
 /// A published value of alpha at a point: the per-run alpha of its valid
@@ -594,6 +680,13 @@ pub fn alpha_check(
             r.point.label, r.valid, r.invalid
         ),
     )
+    .drawn(crate::run::Drawn::Band {
+        quantity: Quantity::Alpha.name(),
+        point: r.point.label.clone(),
+        lo: target - margin,
+        hi: target + margin,
+        label: format!("published: alpha = {target} +- {margin}"),
+    })
 }
 
 /// The dissipation values of PH95 Fig. 8 at the paper and acceptance tiers
@@ -633,6 +726,11 @@ pub fn rise_check(
         Claim::Above { threshold: 0.0 },
         &format!("alpha({hi_at}) - alpha({lo_at}) > 0"),
     )
+    .drawn(crate::run::Drawn::Note {
+        quantity: Quantity::Alpha.name(),
+        points: vec![lo.point.label.clone(), hi.point.label.clone()],
+        label: format!("published: alpha({hi_at}) > alpha({lo_at})"),
+    })
 }
 
 /// A sweep figure (PH95 Figs. 8-10) after its runs: the figure (name, paper,
@@ -801,6 +899,60 @@ mod tests {
             RunOutcome::Invalid(why) => assert!(why.contains("cannot be measured"), "{why}"),
             RunOutcome::Valid(r) => panic!("a constant series gave alpha = {}", r.alpha),
         }
+    }
+
+    #[test]
+    fn published_claims_are_drawn_at_their_points() {
+        assert_eq!(point_words("b0.5_g0.2"), "b = 0.5, g = 0.2");
+        assert_eq!(point_words("I0.5_lower_end"), "I = 0.5, lower, end");
+        let point = |label: &str, x: f64, alpha: f64| PointResult {
+            point: SweepPoint {
+                label: label.into(),
+                x: vec![x],
+                params: Params::default(),
+            },
+            alpha,
+            alpha_err: 0.01,
+            v: 0.4,
+            v_err: 0.01,
+            valid: 4,
+            invalid: 0,
+            ensemble: None,
+            of_mean: None,
+        };
+        let (r, reference, off) = (
+            point("p0.2", 0.2, 0.5),
+            point("p0.5", 0.5, 1.3),
+            point("p9", 9.0, 1.0),
+        );
+        let checks = [
+            same_as_check("a", "s", Quantity::Alpha, &r, &reference, 0.1, ""),
+            alpha_check("b", "s", &reference, 1.33, 0.05),
+            // a point that is not on the chart draws nothing
+            alpha_check("c", "s", &off, 0.0, 0.1),
+            rise_check("d", &r, &reference, "p = 0.2", "p = 0.5"),
+        ];
+        let pts = [&r, &reference];
+        let curve = [Curve {
+            label: "c",
+            points: &pts,
+            xi: 0,
+        }];
+        let marks = chart_marks(Quantity::Alpha, &curve, &checks);
+        assert_eq!(marks.bands.len(), 2, "{marks:?}");
+        let (label, boxes) = &marks.bands[0];
+        assert!(label.contains("as at p = 0.5"), "{label}");
+        assert_eq!(boxes.len(), 1);
+        let (x, lo, hi) = boxes[0];
+        assert_eq!(x, 0.2);
+        assert!((lo - 1.2).abs() < 1e-12 && (hi - 1.4).abs() < 1e-12);
+        assert_eq!(marks.bands[1].1, vec![(0.5, 1.33 - 0.05, 1.33 + 0.05)]);
+        assert_eq!(
+            marks.notes,
+            vec!["published: alpha(p = 0.5) > alpha(p = 0.2)".to_string()]
+        );
+        // nothing about v was claimed
+        assert_eq!(chart_marks(Quantity::V, &curve, &checks).rows(), 0);
     }
 
     #[test]
