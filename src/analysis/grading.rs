@@ -239,10 +239,21 @@ pub fn all_of(parts: impl IntoIterator<Item = Verdict>) -> Verdict {
 
 /// Grade `est` against `claim` by the one rule (module docs).
 pub fn grade(est: Estimate, claim: Claim) -> Verdict {
-    let Some(h) = est.half_width() else {
+    match coverage_factor(est.n) {
+        Some(k) => grade_with(est, claim, k),
+        None => Verdict::Undecided,
+    }
+}
+
+/// The one rule with coverage factor `k` in place of [`coverage_factor`]
+/// (a look of a sequential design, `super::sequential`): undecided below
+/// [`MIN_RUNS`] runs or for a non-finite or negative SE, mean or k.
+pub fn grade_with(est: Estimate, claim: Claim, k: f64) -> Verdict {
+    let finite = est.mean.is_finite() && est.se.is_finite() && est.se >= 0.0 && k.is_finite();
+    if est.n < MIN_RUNS || !finite {
         return Verdict::Undecided;
-    };
-    let x = est.mean;
+    }
+    let (x, h) = (est.mean, k * est.se);
     match claim {
         Claim::Within { target, margin } => {
             let d = (x - target).abs();
@@ -263,11 +274,12 @@ pub fn grade(est: Estimate, claim: Claim) -> Verdict {
                 Verdict::Undecided
             }
         }
-        Claim::Below { threshold } => grade(
+        Claim::Below { threshold } => grade_with(
             Estimate::new(-x, est.se, est.n),
             Claim::Above {
                 threshold: -threshold,
             },
+            k,
         ),
     }
 }

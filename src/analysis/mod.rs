@@ -12,6 +12,8 @@
 //!   (half-times, window means; PH95 Fig. 3).
 //! - [`grading`]: the one grading rule of every check (reproduced / not
 //!   reproduced / undecided).
+//! - [`sequential`]: the one rule at looks fixed in advance, with boundaries
+//!   from an error-spending rule (group-sequential grading).
 //! - [`stats`]: Student's t tail and critical values for one-sided tests.
 
 pub mod fit;
@@ -19,6 +21,7 @@ pub mod grading;
 pub mod mean_spectrum;
 pub mod relaxation;
 pub mod resample;
+pub mod sequential;
 pub mod spectrum;
 pub mod stats;
 pub mod waves;

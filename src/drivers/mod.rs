@@ -35,6 +35,8 @@ pub mod open_pipe;
 /// PH95 Figs. 4 and 5: the wave profile and the wave speeds read over an ensemble.
 pub mod profiles;
 pub mod relaxation;
+/// The group-sequential designs measured: wrong-verdict rates and runs against the truth.
+pub mod sequential;
 pub mod spectra;
 pub mod sweep;
 /// PH95 Fig. 7: white noise at p = 0 and b = 0, the peak at v = 1/2.

@@ -1,0 +1,282 @@
+//! How the group-sequential designs of [`crate::analysis::sequential`]
+//! behave before any figure trusts them: the wrong-verdict rate and the mean
+//! runs spent, against the distance of the truth from the published value
+//! (in margins), for synthetic normal runs and for resampled committed runs
+//! of PH94 Fig. 2 and PH95 Fig. 6; beside the fixed design of the acceptance
+//! tier (one look at the maximum, k = max(2, t)). `sequential-design`
+//! writes the table and the plots.
+
+use crate::analysis::sequential::{simulate, Design, Simulated, Source, Spending};
+use crate::error::{Error, ErrorKind, Result};
+use crate::plot::{line_chart_at, Line, PALETTE};
+use crate::run::Output;
+use plotters::chart::SeriesLabelPosition;
+use std::path::Path;
+
+/// Distances of the truth from the published value, in margins: inside
+/// (0, 0.5), on the edge (1) and outside (1.5, 2).
+pub const DISTANCES: [f64; 5] = [0.0, 0.5, 1.0, 1.5, 2.0];
+
+/// The stated chance of each kind of wrong verdict over all looks.
+pub const ALPHA: f64 = 0.025;
+
+/// The first look of the sequential designs (runs).
+pub const FIRST_LOOK: usize = 16;
+
+/// A design under study, with its name.
+pub struct Named {
+    /// Name in the table, e.g. `obrien-fleming 16..128`.
+    pub name: String,
+    /// The design.
+    pub design: Design,
+}
+
+/// The designs compared up to `max` runs: the fixed one (a single look at
+/// `max`), O'Brien-Fleming and Pocock from [`FIRST_LOOK`] doubling to `max`.
+pub fn designs(max: usize) -> Result<Vec<Named>> {
+    let mut out = vec![Named {
+        name: format!("fixed {max}"),
+        design: Design::new(vec![max], ALPHA, Spending::OBrienFleming)?,
+    }];
+    for s in [Spending::OBrienFleming, Spending::Pocock] {
+        out.push(Named {
+            name: format!("{} {FIRST_LOOK}..{max}", s.name()),
+            design: Design::doubling(FIRST_LOOK, max, ALPHA, s)?,
+        });
+    }
+    Ok(out)
+}
+
+/// A source of runs with the margin of its claim.
+pub struct Case {
+    /// Name in the table.
+    pub name: String,
+    /// The margin Delta of the claim.
+    pub margin: f64,
+    /// Where the runs come from.
+    pub source: Source,
+}
+
+/// The per-run `column` of a committed runs.csv and the margin of check
+/// `check` in the summary.json beside it.
+fn committed(dir: &Path, column: &str, check: &str) -> Result<(Vec<f64>, f64)> {
+    let bad = |what: String| Error::new(ErrorKind::Io, format!("{}: {what}", dir.display()));
+    let text =
+        std::fs::read_to_string(dir.join("runs.csv")).map_err(|e| bad(format!("runs.csv: {e}")))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let i = header
+        .iter()
+        .position(|h| *h == column)
+        .ok_or_else(|| bad(format!("runs.csv has no column {column}")))?;
+    let values = lines
+        .map(|l| l.split(',').nth(i).and_then(|v| v.parse::<f64>().ok()))
+        .collect::<Option<Vec<f64>>>()
+        .ok_or_else(|| bad(format!("runs.csv: a row without a number in {column}")))?;
+    let summary: serde_json::Value = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .ok_or_else(|| bad("summary.json unreadable".into()))?;
+    let margin = summary["checks"]
+        .as_array()
+        .and_then(|cs| cs.iter().find(|c| c["name"] == check))
+        .and_then(|c| c["tolerance"].as_f64())
+        .ok_or_else(|| bad(format!("summary.json has no check {check} with a margin")))?;
+    Ok((values, margin))
+}
+
+/// The cases: normal runs with a spread of 0.5, 1 and 2 margins, and the
+/// committed per-run alphas of PH94 Fig. 2 and PH95 Fig. 6 under `report`
+/// (the committed report's folder), resampled, with their margins.
+pub fn cases(report: &Path) -> Result<Vec<Case>> {
+    let mut out: Vec<Case> = [0.5, 1.0, 2.0]
+        .iter()
+        .map(|&sd| Case {
+            name: format!("normal, sd {sd} margins"),
+            margin: 1.0,
+            source: Source::Normal { sd },
+        })
+        .collect();
+    for (fig, name) in [
+        ("fig2", "PH94 Fig. 2 alpha"),
+        ("waves-fig6", "PH95 Fig. 6 alpha"),
+    ] {
+        let (values, margin) = committed(&report.join(fig), "alpha", "alpha")?;
+        let source = Source::Resampled { values };
+        out.push(Case {
+            name: format!("{name}, resampled (sd {:.2} margins)", source.sd() / margin),
+            margin,
+            source,
+        });
+    }
+    Ok(out)
+}
+
+/// One row of the study.
+pub struct Row {
+    /// The design's name.
+    pub design: String,
+    /// The case's name.
+    pub case: String,
+    /// The truth's distance from the published value, in margins.
+    pub distance: f64,
+    /// What was measured.
+    pub sim: Simulated,
+}
+
+/// Simulate every design, case and distance with `trials` trials each;
+/// `seed` + the cell's index seeds each cell; `tick` after each cell.
+pub fn measure(
+    designs: &[Named],
+    cases: &[Case],
+    trials: usize,
+    seed: u64,
+    tick: impl Fn(),
+) -> Result<Vec<Row>> {
+    let mut rows = Vec::new();
+    for d in designs {
+        for c in cases {
+            for &distance in &DISTANCES {
+                let cell = seed.wrapping_add(rows.len() as u64);
+                let sim = simulate(&d.design, c.margin, distance, &c.source, trials, cell)?;
+                rows.push(Row {
+                    design: d.name.clone(),
+                    case: c.name.clone(),
+                    distance,
+                    sim,
+                });
+                tick();
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// The largest wrong-verdict rate a design may show over `trials` trials
+/// when its true rate is [`ALPHA`]: ALPHA plus three binomial SDs.
+pub fn allowed(trials: usize) -> f64 {
+    ALPHA + 3.0 * (ALPHA * (1.0 - ALPHA) / trials.max(1) as f64).sqrt()
+}
+
+/// Write `design.csv`, `design.md` (the table, with the boundaries) and two
+/// plots, `wrong.png` and `runs.png`, against the distance.
+pub fn write(
+    out: &Output,
+    designs: &[Named],
+    rows: &[Row],
+    trials: usize,
+    command: &str,
+) -> Result<()> {
+    let mut csv =
+        String::from("design,case,distance,reproduced,not_reproduced,undecided,wrong,mean_runs\n");
+    let mut md = format!(
+        "# Sequential designs: wrong verdicts and runs\n\nWritten by `{command}`. Each cell: {trials} simulated claims \"within Delta of the published value\", the truth `distance` margins away. Wrong: not reproduced although the truth is within the margin (distance <= 1), reproduced although it is outside. Stated level {ALPHA} per kind of wrong verdict; a cell above {:.4} (three binomial SDs more) would contradict it.\n\n",
+        allowed(trials)
+    );
+    md.push_str("| design | looks | boundaries k_j |\n|---|---|---|\n");
+    for d in designs {
+        let ks: Vec<String> = d
+            .design
+            .boundaries
+            .iter()
+            .map(|k| format!("{k:.3}"))
+            .collect();
+        md.push_str(&format!(
+            "| {} | {:?} | {} |\n",
+            d.name,
+            d.design.looks,
+            ks.join(", ")
+        ));
+    }
+    md.push_str("\n| design | case | distance | reproduced | not reproduced | undecided | wrong | mean runs |\n|---|---|---|---|---|---|---|---|\n");
+    for r in rows {
+        let s = &r.sim;
+        csv.push_str(&format!(
+            "{},{},{},{},{},{},{},{}\n",
+            r.design,
+            r.case,
+            r.distance,
+            s.reproduced,
+            s.not_reproduced,
+            s.undecided,
+            s.wrong,
+            s.mean_runs
+        ));
+        md.push_str(&format!(
+            "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.1} |\n",
+            r.design,
+            r.case,
+            r.distance,
+            s.reproduced,
+            s.not_reproduced,
+            s.undecided,
+            s.wrong,
+            s.mean_runs
+        ));
+    }
+    crate::run::write_atomic(&out.path("design.csv"), csv.as_bytes())?;
+    crate::run::write_atomic(&out.path("design.md"), md.as_bytes())?;
+    // wrong.png: each design's worst normal and worst resampled case at each
+    // distance; runs.png: each
+    // design on the first normal case and on the first committed one
+    let of = |d: &Named,
+              keep: &dyn Fn(&Row) -> bool,
+              f: &dyn Fn(&Simulated) -> f64|
+     -> Vec<(f64, f64)> {
+        DISTANCES
+            .iter()
+            .map(|&x| {
+                let ys = rows
+                    .iter()
+                    .filter(|r| r.design == d.name && r.distance == x && keep(r));
+                (x, ys.map(|r| f(&r.sim)).fold(f64::NAN, f64::max))
+            })
+            .collect()
+    };
+    let picked: Vec<&String> = ["normal, sd 1", "PH94 Fig. 2"]
+        .iter()
+        .filter_map(|p| rows.iter().map(|r| &r.case).find(|c| c.starts_with(p)))
+        .collect();
+    let mut wrong = Vec::new();
+    let mut runs = Vec::new();
+    for (i, d) in designs.iter().enumerate() {
+        for (j, (what, normal)) in [("normal", true), ("resampled", false)]
+            .into_iter()
+            .enumerate()
+        {
+            let color = PALETTE[(i + 3 * j) % PALETTE.len()];
+            let keep = move |r: &Row| r.case.starts_with("normal") == normal;
+            let label = format!("{}, {what}", d.name);
+            wrong.push(Line::new(&label, of(d, &keep, &|s| s.wrong), color).markers());
+            wrong.push(Line::new("", of(d, &keep, &|s| s.wrong), color));
+        }
+        for (j, case) in picked.iter().enumerate() {
+            let color = PALETTE[(i + 3 * j) % PALETTE.len()];
+            let pts = of(d, &|r| &&r.case == case, &|s| s.mean_runs);
+            runs.push(Line::new(&format!("{}; {case}", d.name), pts, color));
+        }
+    }
+    wrong.push(Line::new(
+        &format!("stated level {ALPHA}"),
+        vec![(0.0, ALPHA), (2.0, ALPHA)],
+        plotters::style::BLACK,
+    ));
+    line_chart_at(
+        &out.path("wrong.png"),
+        &format!("Worst wrong-verdict rate of normal and of resampled committed runs ({trials} trials per point)"),
+        "distance of the truth from the published value (margins)",
+        "share of wrong verdicts",
+        &wrong,
+        false,
+        SeriesLabelPosition::UpperRight,
+    )?;
+    line_chart_at(
+        &out.path("runs.png"),
+        &format!("Mean runs spent against the truth's distance ({trials} trials per point)"),
+        "distance of the truth from the published value (margins)",
+        "mean runs per claim",
+        &runs,
+        false,
+        SeriesLabelPosition::LowerMiddle,
+    )
+}
