@@ -176,6 +176,57 @@ impl PipeArgs {
     }
 }
 
+/// The options of a single-spectrum figure (PH94 Fig. 2, PH95 Fig. 6):
+/// [`PipeArgs`] and `--sequential`.
+#[derive(Debug, Clone, clap::Parser)]
+pub struct SpectrumArgs {
+    /// `--tier`, `--seed`, `--runs`, `--out`, `--shard`, `--threads`, `--rules`, `--engine`.
+    #[command(flatten)]
+    pub pipe: PipeArgs,
+    /// Only at --tier acceptance: grade each claim at looks of 16, 32, 64, ...
+    /// runs up to four times the fixed count, with O'Brien-Fleming
+    /// boundaries, and stop once every claim is decided (analysis::sequential)
+    /// instead of running the fixed count.
+    #[arg(long)]
+    pub sequential: bool,
+}
+
+impl SpectrumArgs {
+    /// Parse the command line of a single-spectrum figure whose `--help`
+    /// starts with `about` (exits with clap's message on bad input).
+    pub fn parse_about(about: &'static str) -> Self {
+        use clap::{CommandFactory, FromArgMatches};
+        let matches = Self::command().about(about).get_matches();
+        Self::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+    }
+
+    /// Refuse `--sequential` where it cannot apply: below the acceptance
+    /// tier, with `--runs` (which fixes the count) or with `--shard` (a
+    /// look needs every run of the one before it).
+    pub fn check(&self) -> crate::Result<()> {
+        let c = &self.pipe.common;
+        let bad = |why: &str| {
+            Err(crate::Error::new(
+                crate::ErrorKind::InvalidParameter,
+                format!("--sequential: {why}"),
+            ))
+        };
+        match () {
+            _ if !self.sequential => Ok(()),
+            _ if !c.tier.is_acceptance() => {
+                bad("only at --tier acceptance (the other tiers run a fixed count)")
+            }
+            _ if c.runs.is_some() => bad(
+                "the looks choose the runs; drop --runs (or drop --sequential for a fixed count)",
+            ),
+            _ if c.shard.is_some() => {
+                bad("each look needs every run before it in one process; drop --shard")
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
 /// Exit status of a failed command, by the kind of its error: 2 for a
 /// usage error (a value out of its range, an unknown name, options that do
 /// not fit together: [`crate::ErrorKind::InvalidParameter`], as clap's own

@@ -197,6 +197,28 @@ pub struct Check {
     /// to summary.json.
     #[serde(skip)]
     pub drawn: Option<Drawn>,
+    /// Where a sequentially graded check stopped (`--sequential`); absent
+    /// for a fixed count.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sequential: Option<Sequential>,
+}
+
+/// Where a sequentially graded check stopped
+/// ([`crate::analysis::sequential`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Sequential {
+    /// The error-spending rule.
+    pub spending: &'static str,
+    /// The runs at each look of the design.
+    pub looks: Vec<usize>,
+    /// The chance of each kind of wrong verdict over all looks, at most.
+    pub alpha: f64,
+    /// The look it stopped at, counted from 1.
+    pub look: usize,
+    /// The runs at that look.
+    pub runs: usize,
+    /// The boundary k at that look.
+    pub boundary: f64,
 }
 
 /// What a published claim about plotted points looks like on a chart: a band
@@ -281,7 +303,25 @@ impl Check {
             pass: verdict == Verdict::Reproduced,
             note,
             drawn: None,
+            sequential: None,
         }
+    }
+
+    /// This check, graded by `design` and stopped at `stop`.
+    pub fn stopped(
+        mut self,
+        design: &crate::analysis::sequential::Design,
+        stop: &crate::analysis::sequential::Stop,
+    ) -> Self {
+        self.sequential = Some(Sequential {
+            spending: design.spending.name(),
+            looks: design.looks.clone(),
+            alpha: design.alpha,
+            look: stop.look + 1,
+            runs: stop.runs,
+            boundary: stop.boundary,
+        });
+        self
     }
 
     /// This check, drawn on its figure's chart as `drawn`.
@@ -333,6 +373,7 @@ impl Check {
             pass: holds,
             note: note.to_string(),
             drawn: None,
+            sequential: None,
         }
     }
 
@@ -405,6 +446,7 @@ impl Check {
             pass: false,
             note: format!("BLIND (published value withheld): {note}"),
             drawn: None,
+            sequential: None,
         }
     }
 

@@ -570,6 +570,19 @@ fn usage_errors_exit_2_and_help_exits_0_everywhere() {
             &["walk"][..],
             "usage",
         ),
+        // the sequential design only at the acceptance tier, without a
+        // fixed count or a shard
+        (fig2, &["--sequential"][..], "only at --tier acceptance"),
+        (
+            fig2,
+            &["--sequential", "--tier", "acceptance", "--runs", "64"][..],
+            "drop --runs",
+        ),
+        (
+            env!("CARGO_BIN_EXE_waves-fig6"),
+            &["--sequential", "--tier", "acceptance", "--shard", "0/2"][..],
+            "drop --shard",
+        ),
     ] {
         assert_eq!(refused(exe, args, &[want]), 2, "{exe} {args:?}");
     }

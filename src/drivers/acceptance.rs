@@ -36,7 +36,8 @@
 //! The margin never depends on the acceptance run's own noise.
 
 use super::margins::{ALPHA_MARGIN, V_SAME_MARGIN};
-use crate::analysis::grading::Claim;
+use crate::analysis::grading::{Claim, Estimate, Verdict};
+use crate::analysis::sequential::{Design, Spending, Stop};
 use serde::Serialize;
 
 /// One published claim graded at the acceptance tier, with its margin and
@@ -349,6 +350,115 @@ pub fn sweep_runs(binary: &str) -> usize {
     }
 }
 
+/// The chance of each kind of wrong verdict over all looks of the
+/// acceptance tier's sequential design (`--sequential`).
+pub const SEQUENTIAL_ALPHA: f64 = 0.025;
+
+/// The first look of the sequential design (runs).
+pub const FIRST_LOOK: usize = 16;
+
+/// The sequential design's largest look, in units of the fixed count.
+pub const MAX_FACTOR: usize = 4;
+
+/// The acceptance tier's sequential design for a claim whose fixed count is
+/// `fixed`: looks at [`FIRST_LOOK`], doubling, up to [`MAX_FACTOR`] x
+/// `fixed`, O'Brien-Fleming-type spending (its last boundary is the fixed
+/// rule's; docs/sequential-design).
+pub fn design(fixed: usize) -> crate::error::Result<Design> {
+    Design::doubling(
+        FIRST_LOOK,
+        (MAX_FACTOR * fixed).max(FIRST_LOOK),
+        SEQUENTIAL_ALPHA,
+        Spending::OBrienFleming,
+    )
+}
+
+/// Run the looks of `design` for `claims`: `at(n)` computes the runs up to
+/// `n` (resuming the earlier ones) and returns what they make (an
+/// ensemble) with one estimate per claim, or `None` (stop: nothing more to
+/// do, e.g. a shard). Each claim stops at its first decided look or at the
+/// last; the looks stop when every claim has. Returns the last `at`'s
+/// result and each claim's [`Stop`].
+pub fn run_looks<E>(
+    design: &Design,
+    claims: &[Claim],
+    mut at: impl FnMut(usize) -> crate::error::Result<Option<(E, Vec<Estimate>)>>,
+) -> crate::error::Result<Option<(E, Vec<Stop>)>> {
+    let mut stops: Vec<Option<Stop>> = vec![None; claims.len()];
+    let last = design.looks.len() - 1;
+    for (j, &n) in design.looks.iter().enumerate() {
+        let Some((made, estimates)) = at(n)? else {
+            return Ok(None);
+        };
+        for (i, claim) in claims.iter().enumerate() {
+            if stops[i].is_some() {
+                continue;
+            }
+            let verdict = design.grade_at(j, estimates[i], *claim);
+            if verdict != Verdict::Undecided || j == last {
+                stops[i] = Some(Stop {
+                    look: j,
+                    runs: n,
+                    boundary: design.boundaries[j],
+                    verdict,
+                    estimate: estimates[i],
+                });
+            }
+        }
+        if stops.iter().all(Option::is_some) {
+            return Ok(Some((made, stops.into_iter().flatten().collect())));
+        }
+    }
+    unreachable!("every claim stops at the last look")
+}
+
+/// Runs needed to decide an equivalence claim at margin `delta` when the
+/// difference is `d` and one run has spread `sigma` (SE = sigma/sqrt(n)):
+/// the n at which | |d| - delta | = (2 + 1.645) sigma / sqrt(n), so that the
+/// verdict is decided in 95 % of seed sets. `None` when |d| = delta.
+pub fn runs_to_decide(d: f64, delta: f64, sigma: f64) -> Option<f64> {
+    let gap = (d.abs() - delta).abs();
+    (gap > 0.0).then(|| ((2.0 + 1.645) * sigma / gap).powi(2))
+}
+
+/// [`runs_to_decide`] for a claim left undecided at `stop`, the spread of
+/// one run taken as SE x sqrt(runs); `None` on the margin's edge or
+/// without a spread.
+pub fn stop_runs_to_decide(stop: &Stop, claim: Claim) -> Option<f64> {
+    let e = stop.estimate;
+    let sigma = e.se * (e.n as f64).sqrt();
+    let (d, delta) = match claim {
+        Claim::Within { target, margin } => (e.mean - target, margin),
+        Claim::Above { threshold } | Claim::Below { threshold } => (e.mean - threshold, 0.0),
+    };
+    runs_to_decide(d, delta, sigma)
+        .filter(|n| n.is_finite() && sigma > 0.0)
+        .map(f64::ceil)
+}
+
+/// The words a sequentially graded check adds to its note.
+pub fn stop_note(design: &Design, stop: &Stop, claim: Claim) -> String {
+    let mut s = format!(
+        "sequential ({}, looks {:?}, level {} per kind of wrong verdict): stopped at look {} of {} with {} runs, k = {:.3}",
+        design.spending.name(),
+        design.looks,
+        design.alpha,
+        stop.look + 1,
+        design.looks.len(),
+        stop.runs,
+        stop.boundary
+    );
+    if stop.verdict == Verdict::Undecided {
+        match stop_runs_to_decide(stop, claim) {
+            Some(n) => s.push_str(&format!(
+                "; undecided at the maximum: about {n} runs would decide it in 95 % of seed sets"
+            )),
+            None => s.push_str("; undecided at the maximum, on the margin's edge"),
+        }
+    }
+    s
+}
+
 /// The acceptance margin of check `check` of figure `figure`, if it has one.
 pub fn margin(figure: &str, check: &str) -> Option<&'static Margin> {
     MARGINS
@@ -359,6 +469,76 @@ pub fn margin(figure: &str, check: &str) -> Option<&'static Margin> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_looks_stop_each_claim_at_its_first_decided_look() {
+        let d = design(32).unwrap();
+        assert_eq!(d.looks, vec![16, 32, 64, 128]);
+        let within = |target| Claim::Within {
+            target,
+            margin: 0.1,
+        };
+        // per-run sd 0.1 around 0: the first claim is far inside its
+        // margin, the second on its edge, the third far outside
+        let claims = [within(0.0), within(0.1), within(1.0)];
+        let mut asked = Vec::new();
+        let (made, stops) = run_looks(&d, &claims, |n| {
+            asked.push(n);
+            let e = Estimate::new(0.0, 0.1 / (n as f64).sqrt(), n);
+            Ok(Some((n, vec![e; 3])))
+        })
+        .unwrap()
+        .unwrap();
+        assert_eq!(asked, d.looks, "the edge claim runs every look");
+        assert_eq!(made, 128);
+        assert_eq!(stops[0].verdict, Verdict::Reproduced);
+        assert!(stops[0].runs < 128, "{:?}", stops[0]);
+        assert_eq!((stops[1].runs, stops[1].verdict), (128, Verdict::Undecided));
+        assert_eq!(
+            (stops[2].look, stops[2].verdict),
+            (0, Verdict::NotReproduced)
+        );
+        assert!(
+            stop_runs_to_decide(&stops[1], claims[1]).is_none(),
+            "on the edge"
+        );
+        let note = stop_note(&d, &stops[1], claims[1]);
+        assert!(note.contains("undecided at the maximum"), "{note}");
+        // once every claim is decided no further look is asked for
+        let mut asked = 0;
+        run_looks(&d, &claims[..1], |n| {
+            asked += 1;
+            Ok(Some((
+                (),
+                vec![Estimate::new(0.0, 0.1 / (n as f64).sqrt(), n)],
+            )))
+        })
+        .unwrap();
+        assert!(asked < d.looks.len());
+        // a stop without a result (a shard) stops the looks
+        assert!(run_looks(&d, &claims, |_| Ok(None::<((), Vec<Estimate>)>))
+            .unwrap()
+            .is_none());
+    }
+
+    #[test]
+    fn an_undecided_claim_says_how_many_runs_would_decide_it() {
+        let claim = Claim::Within {
+            target: 0.0,
+            margin: 0.1,
+        };
+        // 0.11 from the target, SE 0.01 over 64 runs: sd 0.08 per run, gap
+        // 0.01 -> (3.645 x 0.08 / 0.01)^2 = 850.3 runs
+        let stop = Stop {
+            look: 2,
+            runs: 64,
+            boundary: 2.0,
+            verdict: Verdict::Undecided,
+            estimate: Estimate::new(0.11, 0.01, 64),
+        };
+        let n = stop_runs_to_decide(&stop, claim).unwrap();
+        assert!((850.0..=852.0).contains(&n), "{n}");
+    }
 
     #[test]
     fn every_margin_follows_the_rule_and_names_its_source() {

@@ -221,14 +221,7 @@ pub fn open_choice_values(
         .collect()
 }
 
-/// Runs needed to decide an equivalence claim at margin `delta` when the
-/// difference is `d` and one run has spread `sigma` (SE = sigma/sqrt(n)):
-/// the n at which | |d| - delta | = (2 + 1.645) sigma / sqrt(n), so that the
-/// verdict is decided in 95 % of seed sets. `None` when |d| = delta.
-pub fn runs_to_decide(d: f64, delta: f64, sigma: f64) -> Option<f64> {
-    let gap = (d.abs() - delta).abs();
-    (gap > 0.0).then(|| ((2.0 + 1.645) * sigma / gap).powi(2))
-}
+pub use super::acceptance::runs_to_decide;
 
 /// The run counts [`power`] weighs: the paper tier's 32, and the doublings
 /// up to Fig. 8's affordable 128 (about 1 h wall for PH95 Figs. 9 and 10

@@ -452,34 +452,81 @@ pub struct SpectrumFigure<'a> {
 }
 
 impl SpectrumFigure<'_> {
-    /// [`run_figure`] with the reading and engine of the command line `args`.
-    pub fn run(&self, args: &crate::cli::PipeArgs) -> Result<Option<crate::run::Summary>> {
-        let rules = args.rules.parse()?;
-        let engine = args.rules.engine(args.common.tier)?;
-        run_figure(self, &args.common, rules, engine)
+    /// [`run_figure`] with the reading, engine and design of the command
+    /// line `args`.
+    pub fn run(&self, args: &crate::cli::SpectrumArgs) -> Result<Option<crate::run::Summary>> {
+        args.check()?;
+        let rules = args.pipe.rules.parse()?;
+        let engine = args.pipe.rules.engine(args.pipe.common.tier)?;
+        run_figure(self, &args.pipe.common, rules, engine, args.sequential)
     }
 }
 
 /// Run an ensemble of spectra for `fig` at the options `common` and `rules`
 /// (resumable and shardable, see [`resumable_ensemble`]; `None` after a
 /// shard), write `spectrum.csv`, `runs.csv`, the PNG and `summary.json` (metrics
-/// `alpha`, `alpha_err`, `j_peak`, `v_peak`), and print the checks.
+/// `alpha`, `alpha_err`, `j_peak`, `v_peak`), and print the checks. With
+/// `sequential` (acceptance tier only) the runs grow look by look until
+/// every acceptance claim is decided ([`super::acceptance::run_looks`]).
 pub fn run_figure(
     fig: &SpectrumFigure,
     common: &crate::cli::Common,
     rules: Rules,
     engine: Engine,
+    sequential: bool,
 ) -> Result<Option<crate::run::Summary>> {
+    use crate::analysis::mean_spectrum::{alpha_of_mean, v_of_mean};
     use crate::run::{run_seeds, Check, Output, Summary};
     let setup = tier_setup(common.tier, fig.params, rules, engine);
     let acceptance = common.tier.is_acceptance();
     let margin = |check| super::acceptance::margin(fig.binary, check);
-    let runs = common.runs_for(4, 8, 8, margin("alpha").map_or(8, |m| m.runs));
-    let seeds: Vec<u64> = run_seeds(common.seed, runs);
-    let start = std::time::Instant::now();
-    let Some(ens) = resumable_ensemble(common, fig.binary, "spectrum", &setup, runs)? else {
-        return Ok(None);
+    let fixed = common.runs_for(4, 8, 8, margin("alpha").map_or(8, |m| m.runs));
+    // the acceptance claims, with their estimators (drivers::acceptance)
+    let graded: Vec<&'static super::acceptance::Margin> = if acceptance {
+        let v = margin("v_peak").filter(|_| fig.v_peak.is_some());
+        margin("alpha").into_iter().chain(v).collect()
+    } else {
+        Vec::new()
     };
+    let estimate = |m: &super::acceptance::Margin, ens: &SpectrumEnsemble| match m.check {
+        "v_peak" => v_of_mean(&ens.spectra(), setup.params.length, setup.t0),
+        _ => alpha_of_mean(&ens.spectra()),
+    };
+    let start = std::time::Instant::now();
+    let design = if sequential {
+        Some(super::acceptance::design(fixed)?)
+    } else {
+        None
+    };
+    let (ens, stops) = match &design {
+        Some(d) => {
+            let claims: Vec<Claim> = graded.iter().map(|m| m.claim()).collect();
+            let looks = super::acceptance::run_looks(d, &claims, |n| {
+                let Some(ens) = resumable_ensemble(common, fig.binary, "spectrum", &setup, n)?
+                else {
+                    return Ok(None);
+                };
+                let e = graded
+                    .iter()
+                    .map(|m| estimate(m, &ens))
+                    .collect::<Result<_>>()?;
+                Ok(Some((ens, e)))
+            })?;
+            let Some((ens, stops)) = looks else {
+                return Ok(None);
+            };
+            (ens, Some(stops))
+        }
+        None => {
+            let Some(ens) = resumable_ensemble(common, fig.binary, "spectrum", &setup, fixed)?
+            else {
+                return Ok(None);
+            };
+            (ens, None)
+        }
+    };
+    let runs = ens.runs.len();
+    let seeds: Vec<u64> = run_seeds(common.seed, runs);
     let out = Output::new(&common.out, fig.binary)?;
     let wall = start.elapsed().as_secs_f64();
 
@@ -542,42 +589,37 @@ pub fn run_figure(
         below as f64 / runs as f64,
     );
     let mut checks = Vec::new();
-    if acceptance {
-        // the estimators and margins fixed before measuring (drivers::acceptance)
-        let alpha = crate::analysis::mean_spectrum::alpha_of_mean(&ens.spectra())?;
-        metrics.insert("alpha_of_mean_spectrum_bootstrap_se".to_string(), alpha.se);
-        if let Some(m) = margin("alpha") {
-            checks.push(Check::published(
-                "alpha",
-                m.source,
-                alpha,
-                m.claim(),
-                &format!(
-                    "fit of the averaged spectrum, bootstrap SE over runs; {}{}",
-                    m.note(),
-                    fig.note
-                ),
-            ));
-        }
-        if let (Some(m), Some(_)) = (margin("v_peak"), fig.v_peak) {
-            let v = crate::analysis::mean_spectrum::v_of_mean(
-                &ens.spectra(),
-                setup.params.length,
-                setup.t0,
-            )?;
-            metrics.insert("v_peak_bootstrap_se".to_string(), v.se);
-            checks.push(Check::published(
-                "v_peak",
-                m.source,
-                v,
-                m.claim(),
-                &format!(
-                    "peak of the averaged spectrum, bootstrap SE over runs; {}{}",
-                    m.note(),
-                    fig.note
-                ),
-            ));
-        }
+    // the estimators and margins fixed before measuring (drivers::acceptance)
+    for (i, m) in graded.iter().enumerate() {
+        let (what, se_metric) = match m.check {
+            "v_peak" => ("peak of the averaged spectrum", "v_peak_bootstrap_se"),
+            _ => (
+                "fit of the averaged spectrum",
+                "alpha_of_mean_spectrum_bootstrap_se",
+            ),
+        };
+        let whole = estimate(m, &ens)?;
+        metrics.insert(se_metric.to_string(), whole.se);
+        let stop = stops.as_ref().map(|s| s[i]);
+        let seq_note = match (&design, &stop) {
+            (Some(d), Some(st)) => format!("; {}", super::acceptance::stop_note(d, st, m.claim())),
+            _ => String::new(),
+        };
+        let check = Check::published(
+            m.check,
+            m.source,
+            stop.map_or(whole, |s| s.estimate),
+            m.claim(),
+            &format!(
+                "{what}, bootstrap SE over runs; {}{}{seq_note}",
+                m.note(),
+                fig.note
+            ),
+        );
+        checks.push(match (&design, &stop) {
+            (Some(d), Some(st)) => check.stopped(d, st),
+            _ => check,
+        });
     }
     if !acceptance {
         checks.push(Check::published(
