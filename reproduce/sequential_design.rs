@@ -3,13 +3,17 @@
 //! Pocock), source of runs (normal; resampled committed runs of PH94
 //! Fig. 2 and PH95 Fig. 6) and distance of the truth from the published
 //! value (0 to 2 margins), the share of wrong verdicts and the mean runs.
-//! Writes `OUT/sequential-design/{design.csv, design.md, wrong.png,
-//! runs.png}` and prints each design's worst wrong-verdict rate.
+//! Then the same designs over every published claim of the committed
+//! report (`claims.md`). Writes `OUT/sequential-design/{design.csv,
+//! design.md, wrong.png, runs.png, claims.md}` and prints each design's
+//! worst wrong-verdict rate and its expected verdicts and runs.
 //!
 //! `cargo run --release --bin sequential-design -- --trials 20000`
 
 use clap::Parser;
-use granular_automata::drivers::sequential::{allowed, cases, designs, measure, write, ALPHA};
+use granular_automata::drivers::sequential::{
+    allowed, cases, committed_claims, designs, measure, plan, write, write_plan, ALPHA,
+};
 use granular_automata::run::{progress, Output};
 use std::path::PathBuf;
 
@@ -67,6 +71,23 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
             d.name,
             allowed(trials),
             d.design.boundaries.iter().map(|k| (k * 1000.0).round() / 1000.0).collect::<Vec<_>>()
+        );
+    }
+    // the designs over the committed claims (docs/report/report.json)
+    let claims = committed_claims(&args.report.join("report.json"))?;
+    let trials = (trials / 10).max(100);
+    let pb = progress(claims.len() as u64, "committed claims");
+    let planned = plan(&claims, trials, args.seed, || pb.inc(1))?;
+    pb.finish_and_clear();
+    write_plan(&out, &claims, &planned, trials, &command)?;
+    for p in &planned {
+        println!(
+            "{}: {:.1} of {} claims decided, {:.2} against the truth, {:.0} runs",
+            p.design,
+            p.decided,
+            claims.len(),
+            p.wrong,
+            p.runs
         );
     }
     println!("wrote {}", out.dir().display());

@@ -282,6 +282,41 @@ pub fn simulate(
     trials: usize,
     seed: u64,
 ) -> Result<Simulated> {
+    if !(margin > 0.0 && margin.is_finite() && distance.is_finite()) {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!("simulation: margin {margin} must be positive and finite, distance {distance} finite"),
+        ));
+    }
+    let claim = Claim::Within {
+        target: 0.0,
+        margin,
+    };
+    simulate_claim(design, claim, distance * margin, source, trials, seed)
+}
+
+/// Whether `truth` satisfies `claim`: the verdict a perfect measurement
+/// would give (on a Within margin's edge: reproduced).
+pub fn truth_verdict(claim: Claim, truth: f64) -> Verdict {
+    let holds = match claim {
+        Claim::Within { target, margin } => (truth - target).abs() <= margin,
+        Claim::Above { threshold } => truth > threshold,
+        Claim::Below { threshold } => truth < threshold,
+    };
+    Verdict::of(holds)
+}
+
+/// Simulate `trials` gradings of `claim` by `design`, each run's value
+/// `truth` plus a draw from `source` (centred), seeded by `seed`. Wrong
+/// verdicts are counted against [`truth_verdict`].
+pub fn simulate_claim(
+    design: &Design,
+    claim: Claim,
+    truth: f64,
+    source: &Source,
+    trials: usize,
+    seed: u64,
+) -> Result<Simulated> {
     use rand::{RngExt, SeedableRng};
     if let Source::Resampled { values } = source {
         if values.len() < 2 || values.iter().any(|v| !v.is_finite()) {
@@ -294,24 +329,23 @@ pub fn simulate(
             ));
         }
     }
-    if !(margin > 0.0 && margin.is_finite() && distance.is_finite() && source.sd().is_finite()) {
+    if !(truth.is_finite() && source.sd().is_finite() && source.sd() >= 0.0) {
         return Err(Error::new(
             ErrorKind::InvalidParameter,
-            format!("simulation: margin {margin} must be positive and finite, distance {distance} and the spread finite"),
+            format!(
+                "simulation: the truth {truth} and the spread {} must be finite",
+                source.sd()
+            ),
         ));
     }
-    let truth = distance * margin;
     let centre = match source {
         Source::Resampled { values } => values.iter().sum::<f64>() / values.len() as f64,
         Source::Normal { .. } => 0.0,
     };
-    let claim = Claim::Within {
-        target: 0.0,
-        margin,
-    };
+    let right = truth_verdict(claim, truth);
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
     let max = *design.looks.last().expect("a design has looks");
-    let (mut yes, mut no, mut runs) = (0usize, 0usize, 0usize);
+    let (mut yes, mut no, mut wrong, mut runs) = (0usize, 0usize, 0usize, 0usize);
     let mut xs = Vec::with_capacity(max);
     for _ in 0..trials {
         xs.clear();
@@ -338,9 +372,11 @@ pub fn simulate(
             Verdict::NotReproduced => no += 1,
             Verdict::Undecided => {}
         }
+        if stop.verdict != Verdict::Undecided && stop.verdict != right {
+            wrong += 1;
+        }
     }
     let t = trials.max(1) as f64;
-    let wrong = if distance.abs() <= 1.0 { no } else { yes };
     Ok(Simulated {
         trials,
         reproduced: yes as f64 / t,

@@ -6,7 +6,8 @@
 //! tier (one look at the maximum, k = max(2, t)). `sequential-design`
 //! writes the table and the plots.
 
-use crate::analysis::sequential::{simulate, Design, Simulated, Source, Spending};
+use crate::analysis::grading::Claim;
+use crate::analysis::sequential::{simulate, simulate_claim, Design, Simulated, Source, Spending};
 use crate::error::{Error, ErrorKind, Result};
 use crate::plot::{line_chart_at, Line, PALETTE};
 use crate::run::Output;
@@ -279,4 +280,161 @@ pub fn write(
         false,
         SeriesLabelPosition::LowerMiddle,
     )
+}
+
+/// A published claim of the committed report, as a simulation sees it.
+pub struct Committed {
+    /// `figure/check`.
+    pub name: String,
+    /// The claim.
+    pub claim: Claim,
+    /// The plug-in truth: the mean over the committed seed sets where there
+    /// are some, else the report's own value.
+    pub truth: f64,
+    /// The spread of one run: the report's SE x sqrt(runs).
+    pub sd: f64,
+    /// The report's fixed run count.
+    pub fixed: usize,
+}
+
+/// The published claims of the committed report `report.json` with a
+/// value, a spread and at least three runs (exact counts and blind checks
+/// have none).
+pub fn committed_claims(report_json: &Path) -> Result<Vec<Committed>> {
+    let bad =
+        |what: String| Error::new(ErrorKind::Io, format!("{}: {what}", report_json.display()));
+    let text = std::fs::read_to_string(report_json).map_err(|e| bad(e.to_string()))?;
+    let r: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+    let rows = r["rows"].as_array().ok_or_else(|| bad("no rows".into()))?;
+    let mut out = Vec::new();
+    for row in rows.iter().filter(|w| w["kind"] == "published") {
+        let num = |k: &str| row[k].as_f64().filter(|x| x.is_finite());
+        let (Some(mean), Some(se), Some(runs)) =
+            (num("measured"), num("error"), row["runs"].as_u64())
+        else {
+            continue;
+        };
+        let tol = num("tolerance");
+        let claim = match (row["test"].as_str(), num("published"), tol) {
+            (Some("within"), Some(target), Some(margin)) => Claim::Within { target, margin },
+            (Some("above"), _, Some(threshold)) => Claim::Above { threshold },
+            (Some("below"), _, Some(threshold)) => Claim::Below { threshold },
+            _ => continue,
+        };
+        if runs < 3 || se <= 0.0 {
+            continue;
+        }
+        let truth = row["seed_sets"]["measured"]
+            .as_f64()
+            .filter(|x| x.is_finite())
+            .unwrap_or(mean);
+        out.push(Committed {
+            name: format!(
+                "{}/{}",
+                row["binary"].as_str().unwrap_or("?"),
+                row["name"].as_str().unwrap_or("?")
+            ),
+            claim,
+            truth,
+            sd: se * (runs as f64).sqrt(),
+            fixed: runs as usize,
+        });
+    }
+    Ok(out)
+}
+
+/// The designs of the claims study for a claim of `fixed` runs, by name:
+/// the fixed count, and O'Brien-Fleming and Pocock from [`FIRST_LOOK`] (or
+/// `fixed` when smaller) up to `fixed` and up to 4 `fixed`.
+pub fn claim_designs(fixed: usize) -> Result<Vec<(&'static str, Design)>> {
+    let seq = |s: Spending, max: usize| Design::doubling(FIRST_LOOK.min(max), max, ALPHA, s);
+    Ok(vec![
+        (
+            "fixed",
+            Design::new(vec![fixed], ALPHA, Spending::OBrienFleming)?,
+        ),
+        (
+            "obrien-fleming up to the fixed count",
+            seq(Spending::OBrienFleming, fixed)?,
+        ),
+        (
+            "pocock up to the fixed count",
+            seq(Spending::Pocock, fixed)?,
+        ),
+        (
+            "obrien-fleming up to 4x",
+            seq(Spending::OBrienFleming, 4 * fixed)?,
+        ),
+        ("pocock up to 4x", seq(Spending::Pocock, 4 * fixed)?),
+    ])
+}
+
+/// What a design is expected to do over the committed claims.
+pub struct Planned {
+    /// The design's name.
+    pub design: &'static str,
+    /// Expected claims decided.
+    pub decided: f64,
+    /// Expected claims decided against the plug-in truth.
+    pub wrong: f64,
+    /// Expected runs over all claims (each claim counted alone).
+    pub runs: f64,
+}
+
+/// Simulate every committed claim (normal runs of its spread around its
+/// plug-in truth) under each design of [`claim_designs`], `trials` times.
+pub fn plan(
+    claims: &[Committed],
+    trials: usize,
+    seed: u64,
+    tick: impl Fn(),
+) -> Result<Vec<Planned>> {
+    let mut out: Vec<Planned> = Vec::new();
+    for (i, c) in claims.iter().enumerate() {
+        for (d, (name, design)) in claim_designs(c.fixed)?.into_iter().enumerate() {
+            let source = Source::Normal { sd: c.sd };
+            let cell = seed.wrapping_add((i * 16 + d) as u64);
+            let s = simulate_claim(&design, c.claim, c.truth, &source, trials, cell)?;
+            if out.len() <= d {
+                out.push(Planned {
+                    design: name,
+                    decided: 0.0,
+                    wrong: 0.0,
+                    runs: 0.0,
+                });
+            }
+            out[d].decided += 1.0 - s.undecided;
+            out[d].wrong += s.wrong;
+            out[d].runs += s.mean_runs;
+        }
+        tick();
+    }
+    Ok(out)
+}
+
+/// Write `claims.md`: the plan of every design over the committed claims.
+pub fn write_plan(
+    out: &Output,
+    claims: &[Committed],
+    plan: &[Planned],
+    trials: usize,
+    command: &str,
+) -> Result<()> {
+    let fixed_runs = plan.first().map_or(f64::NAN, |p| p.runs);
+    let mut md = format!(
+        "# Sequential designs over the committed claims\n\nWritten by `{command}`. Each of the {} published claims of docs/report/report.json with a value, a spread and at least 3 runs is simulated {trials} times: normal runs with the report's spread per run (SE x sqrt(runs)) around a plug-in truth (the mean over the committed seed sets where there are some, else the report's value), graded by each design. Each claim is counted alone: claims that share runs (one ensemble, one sweep point) would share their cost. Wrong: decided against the plug-in truth.\n\n| design | claims decided (expected) | decided against the truth (expected) | runs (expected) | runs / fixed |\n|---|---|---|---|---|\n",
+        claims.len()
+    );
+    for p in plan {
+        md.push_str(&format!(
+            "| {} | {:.1} | {:.2} | {:.0} | {:.2} |\n",
+            p.design,
+            p.decided,
+            p.wrong,
+            p.runs,
+            p.runs / fixed_runs
+        ));
+    }
+    crate::run::write_atomic(&out.path("claims.md"), md.as_bytes())?;
+    Ok(())
 }
