@@ -720,8 +720,19 @@ pub fn merge(into: &Path, from: &[PathBuf]) -> Result<MergeReport> {
                     let is_run = name_s.starts_with("run-");
                     let bytes = fs::read(&file).map_err(|e| io_error(&file, "read", e))?;
                     if is_run {
-                        let text = String::from_utf8_lossy(&bytes);
-                        let body = verify_run_file(&file, &text)?;
+                        // as the resume reads it: text, never a lossy
+                        // conversion of damaged bytes
+                        let text = std::str::from_utf8(&bytes).map_err(|e| {
+                            Error::new(
+                                ErrorKind::Io,
+                                format!(
+                                    "run file {} is not UTF-8 text ({e}); it was damaged: nothing was merged, \
+                                     remove it from the shard and rerun the shard",
+                                    file.display()
+                                ),
+                            )
+                        })?;
+                        let body = verify_run_file(&file, text)?;
                         let (b, h) = (binary.to_string_lossy(), hash.to_string_lossy());
                         if let Some(why) = foreign_run(&file, &body, &b, &h, folder_key.as_ref()) {
                             return Err(Error::new(

@@ -58,6 +58,7 @@ pub mod drivers;
 pub mod ensemble;
 pub mod error;
 pub mod experiments;
+pub mod fuzz;
 pub mod hopper;
 pub mod lattice;
 pub mod pipe;

@@ -22,7 +22,7 @@ const LAYERS: [&[&str]; 9] = [
     &["pipe"],
     &["validate", "cli"],
     &["drivers", "report", "experiments"],
-    &["speed"],
+    &["speed", "fuzz"],
 ];
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {

@@ -549,11 +549,11 @@ fn least_energy(h0: &Hopper, h1: &Hopper) -> std::result::Result<u64, TestCaseEr
     let (s0, s1) = (h0.sites(), h1.sites());
     let hole = |j: u32| j != OFF && s0[j as usize] == 0;
     let mut checked = 0;
-    for t in 0..s1.len() {
-        if !is_grain(s1[t]) {
+    for (t, &site) in s1.iter().enumerate() {
+        if !is_grain(site) {
             continue;
         }
-        let s = grain_state(s1[t]);
+        let s = grain_state(site);
         let v = motion(s);
         if v == 0 {
             continue;

@@ -308,27 +308,33 @@ impl Candidate for External {
             &what,
             (max_line, plan.steps / plan.every),
         )?;
-        let samples: Vec<Sample> = text
-            .lines()
-            .enumerate()
-            .filter(|(_, l)| !l.trim().is_empty())
-            .enumerate()
-            .map(|(i, (n, l))| {
-                read_sample(plan, i, l).map_err(|why| {
-                    let what = format!("line {} {why}; the line reads: {}", n + 1, excerpt(l));
-                    self.broke(&what)
-                })
-            })
-            .collect::<Result<_>>()?;
-        let want = plan.steps / plan.every;
-        if samples.len() as u64 != want {
-            return Err(self.broke(&format!(
-                "printed {} samples, the plan asks for {want}",
-                samples.len()
-            )));
-        }
-        Ok(samples)
+        read_samples(plan, &text).map_err(|what| self.broke(&what))
     }
+}
+
+/// The samples of a run of the checked `plan` from the NDJSON `text` its
+/// candidate printed (blank lines skipped): each line's shape checked
+/// (VALIDATION.md, "Sample"), and as many samples as the plan asks for;
+/// otherwise what is wrong, naming the line and quoting its start.
+pub fn read_samples(plan: &RunPlan, text: &str) -> std::result::Result<Vec<Sample>, String> {
+    let samples: Vec<Sample> = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .enumerate()
+        .map(|(i, (n, l))| {
+            read_sample(plan, i, l)
+                .map_err(|why| format!("line {} {why}; the line reads: {}", n + 1, excerpt(l)))
+        })
+        .collect::<std::result::Result<_, String>>()?;
+    let want = plan.steps / plan.every;
+    if samples.len() as u64 != want {
+        return Err(format!(
+            "printed {} samples, the plan asks for {want}",
+            samples.len()
+        ));
+    }
+    Ok(samples)
 }
 
 impl External {

@@ -123,18 +123,39 @@ pub fn serve(
     input: &mut dyn std::io::Read,
     output: &mut dyn std::io::Write,
 ) -> Result<()> {
+    let (plan, mut e) = load(builder, input)?;
+    act(plan.action, e.as_mut(), output)
+}
+
+/// Read a [`HopperPlan`] from `input`, check it, build its hopper with
+/// `builder` and set up its state: the plan and the hopper, or a typed
+/// error naming what is wrong.
+pub fn load(
+    builder: &dyn HopperBuilder,
+    input: &mut dyn std::io::Read,
+) -> Result<(HopperPlan, Box<dyn HopperEngine>)> {
     let plan: HopperPlan = super::candidate::read_plan(input, "HopperPlan")?;
     check_plan(&plan)?;
     let mut e = builder.build(plan.params, plan.seed)?;
     if let Some(st) = &plan.state {
         set_up(e.as_mut(), st)?;
     }
+    Ok((plan, e))
+}
+
+/// Do `action` on the hopper `e` set up by [`load`], writing its lines to
+/// `output`.
+pub fn act(
+    action: HopperAction,
+    e: &mut dyn HopperEngine,
+    output: &mut dyn std::io::Write,
+) -> Result<()> {
     let (added, removed, it) = (e.added(), e.removed(), e.iteration());
     let mut line = |v: &dyn erased::Line| -> Result<()> {
         writeln!(output, "{}", v.json())?;
         Ok(())
     };
-    match plan.action {
+    match action {
         HopperAction::Energies { sites } => {
             for site in sites {
                 let energies = e.energies(site)?;
@@ -217,14 +238,10 @@ mod erased {
 /// every grain's spacing, and the plug.
 pub fn set_up(e: &mut dyn HopperEngine, st: &HopperState) -> Result<()> {
     let n = e.sites().len();
-    if st.sites.len() != n || st.spacing.len() != n {
+    if let Some(why) = state_fault(e.geometry(), st, false) {
         return Err(Error::new(
             ErrorKind::InvalidParameter,
-            format!(
-                "the state has {} site values and {} spacings; the hopper has {n} sites",
-                st.sites.len(),
-                st.spacing.len()
-            ),
+            format!("the plan's state {why}"),
         ));
     }
     if st.open {
@@ -244,6 +261,55 @@ pub fn set_up(e: &mut dyn HopperEngine, st: &HopperState) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The end line of a run on a hopper of `geometry`, from the `line` its
+/// program printed: the state checked (same size, walls and plug where they
+/// are, valid grains, finite spacings); otherwise what is wrong.
+pub fn read_end(geometry: &Geometry, line: &str) -> std::result::Result<EndLine, String> {
+    let end: EndLine = serde_json::from_str(line).map_err(|e| {
+        let head: String = line.chars().take(200).collect();
+        format!("printed a line that is not an end line {{\"state\": ..}}: {e}; it reads: {head:?}")
+    })?;
+    match state_fault(geometry, &end.state, true) {
+        Some(why) => Err(format!("ended with a state that {why}")),
+        None => Ok(end),
+    }
+}
+
+/// Why `st` is no state of a hopper of `geometry`, or `None`: the same
+/// number of sites; walls (255) where the walls are; the plug a wall when
+/// closed, a hole when open (or a grain, if `plug_grains`); every inside
+/// site a hole (0) or a grain 1..=21 ([`crate::hopper::engine::check_value`]);
+/// every grain's spacing D finite in [1, 1e6] (a mean of ray lengths of at
+/// least 1, as `set_spacing` takes it). Spacings of other sites are not read.
+pub fn state_fault(geometry: &Geometry, st: &HopperState, plug_grains: bool) -> Option<String> {
+    let n = geometry.kind.len();
+    if st.sites.len() != n || st.spacing.len() != n {
+        return Some(format!(
+            "has {} site values and {} spacings; the hopper has {n} sites",
+            st.sites.len(),
+            st.spacing.len()
+        ));
+    }
+    for (i, (&v, &d)) in st.sites.iter().zip(&st.spacing).enumerate() {
+        let kind = geometry.kind[i];
+        let grain = crate::hopper::engine::check_value(v).is_ok() && v != HOLE;
+        let ok = match kind {
+            SiteKind::Wall => v == WALL,
+            SiteKind::Plug if st.open => v == HOLE || (plug_grains && grain),
+            SiteKind::Plug => v == WALL,
+            SiteKind::Inside => v == HOLE || grain,
+        };
+        let spaced = !is_grain(v) || (d.is_finite() && (1.0..=1e6).contains(&d));
+        if !ok || !spaced {
+            return Some(format!(
+                "has site {i} ({kind:?}) = {v}, spacing {d}: not a valid value there \
+                 (0 a hole, 1..=21 a grain with spacing in [1, 1e6], 255 a wall)"
+            ));
+        }
+    }
+    None
 }
 
 impl HopperBuilder for External {
@@ -356,29 +422,7 @@ impl Proxy {
     /// Take the end of a run: the state (checked: same size, walls and plug
     /// where they were, valid grains, finite spacings) and the counters.
     fn end(&mut self, line: &str) -> Result<()> {
-        let end: EndLine = self.parse(line, "an end line {\"state\": ..}")?;
-        let n = self.state.sites.len();
-        if end.state.sites.len() != n || end.state.spacing.len() != n {
-            return Err(self.bad(format!(
-                "ended with {} site values and {} spacings; the hopper has {n} sites",
-                end.state.sites.len(),
-                end.state.spacing.len()
-            )));
-        }
-        for (i, (&v, &d)) in end.state.sites.iter().zip(&end.state.spacing).enumerate() {
-            let kind = self.geometry.kind[i];
-            let ok = match kind {
-                SiteKind::Wall => v == WALL,
-                SiteKind::Plug if end.state.open => v == HOLE || is_grain(v),
-                SiteKind::Plug => v == WALL,
-                SiteKind::Inside => v == HOLE || is_grain(v),
-            };
-            if !ok || !d.is_finite() {
-                return Err(self.bad(format!(
-                    "ended with site {i} ({kind:?}) = {v}, spacing {d}: not a valid value there"
-                )));
-            }
-        }
+        let end = read_end(&self.geometry, line).map_err(|why| self.bad(why))?;
         self.state = end.state;
         self.added += end.added;
         self.removed += end.removed;
