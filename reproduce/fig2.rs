@@ -5,7 +5,7 @@
 //!
 //! `cargo run --release --bin fig2 -- --tier quick`
 
-use granular_automata::cli::SpectrumArgs;
+use granular_automata::cli::SequentialArgs;
 use granular_automata::drivers::margins::{ALPHA_MARGIN, V_MARGIN};
 use granular_automata::drivers::spectra::SpectrumFigure;
 use granular_automata::pipe::Params;
@@ -13,7 +13,7 @@ use granular_automata::pipe::Params;
 granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
-    let args = SpectrumArgs::parse_about(
+    let args = SequentialArgs::parse_about(
         "PH94 Fig. 2: 1/f^alpha density spectrum with a wave peak (L = 220, p = g = b = 0.5)",
     );
     let fig = SpectrumFigure {

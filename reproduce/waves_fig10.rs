@@ -3,15 +3,14 @@
 //! b from 0.25 to 1 for g = 0.5 and the smaller g = 0.2. L = 220, W = 11.
 //! The published claims of PH95 III H (alpha constant for b > 0 and in g;
 //! v falling with b, more at the smaller g; v changing with g) are graded
-//! by `drivers::dependence::fig10_claims`, as in `pipe-matrix`.
+//! by `drivers::dependence::fig10_checks`, as in `pipe-matrix`.
 //!
 //! `cargo run --release --bin waves-fig10 -- --tier quick`
 
-use granular_automata::cli::PipeArgs;
-use granular_automata::drivers::dependence::{checks as claim_checks, fig10_claims, G_LOW};
+use granular_automata::cli::SequentialArgs;
+use granular_automata::drivers::dependence::{fig10_checks, G_LOW};
 use granular_automata::drivers::sweep::{
-    fig7_check, fig7_reference, rise_check, sweep_chart, Curve, Fig7Case, PointResult, Quantity,
-    SweepFigure, SweepPoint,
+    sweep_chart, Curve, PointResult, Quantity, SweepFigure, SweepPoint,
 };
 use granular_automata::pipe::Params;
 use serde_json::json;
@@ -19,10 +18,10 @@ use serde_json::json;
 granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
-    let args = PipeArgs::parse_about(
+    let args = SequentialArgs::parse_about(
         "PH95 Fig. 10: alpha against b and g, wave speed against b for two gravities",
     );
-    let tier = args.common.tier;
+    let tier = args.pipe.common.tier;
     let bs: &[f64] = tier.pick(
         &[0.0, 0.05, 0.25, 0.5, 1.0][..],
         &[0.0, 0.02, 0.05, 0.1, 0.25, 0.5, 0.75, 1.0][..],
@@ -50,7 +49,9 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
             points.push(p.clone());
         }
     }
-    let Some(fig) = SweepFigure::run("waves-fig10", "PH95 Fig. 10", &args, points)? else {
+    let graded = |rs: &[PointResult]| fig10_checks(tier, &rs.iter().collect::<Vec<_>>());
+    let fig = SweepFigure::run_graded("waves-fig10", "PH95 Fig. 10", &args, points, graded)?;
+    let Some((fig, checks)) = fig else {
         return Ok(());
     };
     let find = |p: &SweepPoint| fig.find(&p.label);
@@ -77,17 +78,6 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     );
     let b_label = "wall roughness b (bounce-back probability)";
     let g_low = format!("g = {G_LOW}");
-    let (b0, bmid) = (rb[0], find(&point(0.5, 0.5)));
-    let mut checks = vec![
-        fig7_check(
-            "b0_matches_waves_fig7",
-            b0,
-            fig7_reference(tier, Fig7Case::B0),
-            "b = 0, p = 0.5",
-        ),
-        rise_check("alpha_rises_with_b", b0, bmid, "b = 0", "b = 0.5"),
-    ];
-    checks.extend(claim_checks(fig10_claims(&fig.all())));
     for (png, what, xlabel, q, curves) in [
         (
             "waves-fig10a_b.png",

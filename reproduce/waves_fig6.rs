@@ -3,7 +3,7 @@
 //!
 //! `cargo run --release --bin waves-fig6 -- --tier quick`
 
-use granular_automata::cli::SpectrumArgs;
+use granular_automata::cli::SequentialArgs;
 use granular_automata::drivers::margins::ALPHA_MARGIN;
 use granular_automata::drivers::spectra::SpectrumFigure;
 use granular_automata::pipe::Params;
@@ -12,7 +12,7 @@ granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args =
-        SpectrumArgs::parse_about("PH95 Fig. 6: density spectrum at p = 0.8 (alpha about 1.33)");
+        SequentialArgs::parse_about("PH95 Fig. 6: density spectrum at p = 0.8 (alpha about 1.33)");
     let fig = SpectrumFigure {
         binary: "waves-fig6",
         paper: "PH95 Fig. 6",

@@ -3,17 +3,16 @@
 //! 10 steps). Checks: the published claims of Fig. 8 (alpha about
 //! constant for every p > 0, v independent of p: each point p > 0 against
 //! p = 0.5, shared with the reproduction matrix, `sweep::same_as_check`),
-//! the p = 0 point against waves-fig7, alpha rising from p = 0 to 0.5.
+//! the p = 0 point against waves-fig7, alpha rising from p = 0 to 0.5
+//! (`dependence::fig8_checks`).
 //!
 //! `cargo run --release --bin waves-fig8 -- --tier quick`
 
 use clap::Parser;
-use granular_automata::cli::PipeArgs;
-use granular_automata::drivers::acceptance::fig8_margin;
-use granular_automata::drivers::margins::{ALPHA_MARGIN, V_SAME_MARGIN};
+use granular_automata::cli::SequentialArgs;
+use granular_automata::drivers::dependence::fig8_checks;
 use granular_automata::drivers::sweep::{
-    fig7_check, fig7_reference, plot_alpha_v, points_1d, rise_check, same_as_check, Curve,
-    Fig7Case, Quantity, SweepFigure, FIG8_P,
+    plot_alpha_v, points_1d, Curve, PointResult, SweepFigure, FIG8_P,
 };
 use granular_automata::pipe::Params;
 use serde_json::json;
@@ -22,7 +21,7 @@ use serde_json::json;
 #[command(about = "PH95 Fig. 8: alpha and wave speed against the dissipation p")]
 struct Args {
     #[command(flatten)]
-    pipe: PipeArgs,
+    pipe: SequentialArgs,
     /// The dissipation values, separated by commas (default by tier; quick:
     /// 0,0.05,0.2,0.5,1). Must include 0 and 0.5, the points the checks
     /// compare; e.g. `--p 0,0.5` for the checks alone.
@@ -37,7 +36,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         pipe: args,
         p: chosen,
     } = Args::parse();
-    let by_tier: &[f64] = args.common.tier.pick(
+    let by_tier: &[f64] = args.pipe.common.tier.pick(
         &[0.0, 0.05, 0.2, 0.5, 1.0][..],
         &[0.0, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0][..],
         &FIG8_P[..],
@@ -65,52 +64,15 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
             .validate()
             .map_err(|e| granular_automata::Error::new(e.kind, format!("--p: {}", e.message)))?;
     }
-    let Some(fig) = SweepFigure::run("waves-fig8", "PH95 Fig. 8", &args, points)? else {
+    let tier = args.pipe.common.tier;
+    let graded = |rs: &[PointResult]| fig8_checks(tier, &rs.iter().collect::<Vec<_>>());
+    let fig = SweepFigure::run_graded("waves-fig8", "PH95 Fig. 8", &args, points, graded)?;
+    let Some((fig, checks)) = fig else {
         return Ok(());
     };
 
     let all = fig.all();
     fig.write_csv("waves-fig8.csv", &["p"], &all)?;
-    let (r0, r5) = (fig.find("p0"), fig.find("p0.5"));
-    let mut checks = vec![
-        fig7_check(
-            "p0_matches_waves_fig7",
-            r0,
-            fig7_reference(args.common.tier, Fig7Case::P0),
-            "p = 0, b = 0.5",
-        ),
-        rise_check("alpha_rises_with_p", r0, r5, "p = 0", "p = 0.5"),
-    ];
-    let acceptance = args.common.tier.is_acceptance();
-    for (q, threshold, source) in [
-        (
-            Quantity::Alpha,
-            ALPHA_MARGIN,
-            "PH95 Fig. 8a (alpha about constant for every p > 0)",
-        ),
-        (
-            Quantity::V,
-            V_SAME_MARGIN,
-            "PH95 Fig. 8b (v does not change with p within the error bars)",
-        ),
-    ] {
-        for r in all
-            .iter()
-            .filter(|r| r.point.x[0] > 0.0 && r.point.x[0] != 0.5)
-        {
-            // the acceptance tier's margin: threshold + the point's s_open
-            let m = fig8_margin(q == Quantity::Alpha, r.point.x[0]).filter(|_| acceptance);
-            checks.push(same_as_check(
-                &format!("{}_{}_same_as_p0.5", q.name(), r.point.label),
-                m.map_or(source, |m| m.source),
-                q,
-                r,
-                r5,
-                m.map_or(threshold, |m| m.delta()),
-                &m.map_or(String::new(), |m| format!("; {}", m.note())),
-            ));
-        }
-    }
     plot_alpha_v(
         &fig.out,
         "waves-fig8",

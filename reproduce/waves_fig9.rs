@@ -7,9 +7,9 @@
 //! `cargo run --release --bin waves-fig9 -- --tier quick`
 
 use clap::Parser;
-use granular_automata::cli::PipeArgs;
+use granular_automata::cli::SequentialArgs;
 use granular_automata::drivers::dependence::{checks as claim_checks, fig9_claims, fig9_validity};
-use granular_automata::drivers::sweep::{plot_alpha_v, points_1d, Curve, SweepFigure};
+use granular_automata::drivers::sweep::{plot_alpha_v, points_1d, Curve, PointResult, SweepFigure};
 use granular_automata::pipe::Params;
 use granular_automata::plot::{errorbar_chart_at, ErrSeries, PALETTE};
 use plotters::chart::SeriesLabelPosition;
@@ -21,7 +21,7 @@ use serde_json::json;
 )]
 struct Args {
     #[command(flatten)]
-    pipe: PipeArgs,
+    seq: SequentialArgs,
     /// The densities, separated by commas, e.g. `--rho 1.8,1.9,2.0,2.1` to
     /// locate the validity limit (default by tier; quick:
     /// 0.2,0.6,1,1.4,2,3). Sorted; the largest is the one that must reach
@@ -42,7 +42,8 @@ granular_automata::main_of!(body);
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let mut rhos: Vec<f64> = if args.rho.is_empty() {
-        args.pipe
+        args.seq
+            .pipe
             .common
             .tier
             .pick(
@@ -74,7 +75,14 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     for p in &points {
         named("--rho", &p.params)?;
     }
-    let Some(fig) = SweepFigure::run("waves-fig9", "PH95 Fig. 9", &args.pipe, points)? else {
+    let graded = |rs: &[PointResult]| {
+        let all: Vec<&PointResult> = rs.iter().collect();
+        let mut checks = fig9_validity(rs, &mut Default::default());
+        checks.extend(claim_checks(fig9_claims(&all)));
+        checks
+    };
+    let fig = SweepFigure::run_graded("waves-fig9", "PH95 Fig. 9", &args.seq, points, graded)?;
+    let Some((fig, checks)) = fig else {
         return Ok(());
     };
     let (res, runs) = (&fig.results, fig.runs);
@@ -87,8 +95,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     );
     let xlabel = "mean density rho (particles per site)";
     let mut metrics = fig.metrics();
-    let mut checks = fig9_validity(res, runs, &mut metrics);
-    checks.extend(claim_checks(fig9_claims(&all)));
+    fig9_validity(res, &mut metrics);
     plot_alpha_v(
         &fig.out,
         "waves-fig9",
@@ -103,7 +110,13 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     )?;
     let frac: Vec<(f64, f64, f64)> = res
         .iter()
-        .map(|r| (r.point.x[0], r.invalid as f64 / runs as f64, 0.0))
+        .map(|r| {
+            (
+                r.point.x[0],
+                r.invalid as f64 / (r.valid + r.invalid) as f64,
+                0.0,
+            )
+        })
         .collect();
     errorbar_chart_at(
         &fig.out.path("waves-fig9_validity.png"),

@@ -176,10 +176,10 @@ impl PipeArgs {
     }
 }
 
-/// The options of a single-spectrum figure (PH94 Fig. 2, PH95 Fig. 6):
-/// [`PipeArgs`] and `--sequential`.
+/// The options of a pipe figure that can grade sequentially (PH94 Fig. 2,
+/// PH95 Figs. 6 and 8-10): [`PipeArgs`] and `--sequential`.
 #[derive(Debug, Clone, clap::Parser)]
-pub struct SpectrumArgs {
+pub struct SequentialArgs {
     /// `--tier`, `--seed`, `--runs`, `--out`, `--shard`, `--threads`, `--rules`, `--engine`.
     #[command(flatten)]
     pub pipe: PipeArgs,
@@ -191,9 +191,9 @@ pub struct SpectrumArgs {
     pub sequential: bool,
 }
 
-impl SpectrumArgs {
-    /// Parse the command line of a single-spectrum figure whose `--help`
-    /// starts with `about` (exits with clap's message on bad input).
+impl SequentialArgs {
+    /// Parse the command line of a figure whose `--help` starts with
+    /// `about` (exits with clap's message on bad input).
     pub fn parse_about(about: &'static str) -> Self {
         use clap::{CommandFactory, FromArgMatches};
         let matches = Self::command().about(about).get_matches();

@@ -201,6 +201,11 @@ pub struct Check {
     /// for a fixed count.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sequential: Option<Sequential>,
+    /// The labels of the sweep points the check is computed from (empty:
+    /// not known, so a sequential sweep keeps every point running while the
+    /// check is open); not written to summary.json.
+    #[serde(skip)]
+    pub points: Vec<String>,
 }
 
 /// Where a sequentially graded check stopped
@@ -304,6 +309,7 @@ impl Check {
             note,
             drawn: None,
             sequential: None,
+            points: Vec::new(),
         }
     }
 
@@ -321,6 +327,23 @@ impl Check {
             runs: stop.runs,
             boundary: stop.boundary,
         });
+        self
+    }
+
+    /// This check, computed from the sweep points labelled `points`.
+    pub fn on_points(mut self, points: Vec<String>) -> Self {
+        self.points = points;
+        self
+    }
+
+    /// This check graded again by the one rule with coverage factor `k` (a
+    /// look of a sequential design); a check without a claim is unchanged.
+    pub fn regraded(mut self, k: f64) -> Self {
+        if let Some(claim) = self.claim {
+            let est = Estimate::new(self.measured, self.error, self.runs);
+            self.verdict = crate::analysis::grading::grade_with(est, claim, k);
+            self.pass = self.verdict == Verdict::Reproduced;
+        }
         self
     }
 
@@ -374,6 +397,7 @@ impl Check {
             note: note.to_string(),
             drawn: None,
             sequential: None,
+            points: Vec::new(),
         }
     }
 
@@ -447,6 +471,7 @@ impl Check {
             note: format!("BLIND (published value withheld): {note}"),
             drawn: None,
             sequential: None,
+            points: Vec::new(),
         }
     }
 

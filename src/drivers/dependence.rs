@@ -1,4 +1,5 @@
-//! The published claims of PH95 III F-H (Figs. 9 and 10): how the exponent
+//! The published claims of PH95 III F-H (Figs. 8-10; Fig. 8's in
+//! [`fig8_checks`]): how the exponent
 //! alpha and the wave speed v depend on the mean density rho, the wall
 //! roughness b and gravity g. `waves-fig9`, `waves-fig10` and the
 //! reproduction matrix ([`super::claims`]) grade them through these
@@ -106,6 +107,7 @@ fn above_check(name: &str, source: &str, q: Quantity, hi: &PointResult, lo: &Poi
         ),
     )
     .drawn(drawn)
+    .on_points(vec![hi.point.label.clone(), lo.point.label.clone()])
 }
 
 /// `check()`, unless every run at one of `points` left the model's validity
@@ -150,13 +152,14 @@ fn keep(claims: Vec<(&'static str, Vec<Check>)>) -> Vec<Claimed> {
 /// (no run at rho <= 1 leaves it; the largest rho reaches the limit).
 pub fn fig9_validity(
     res: &[PointResult],
-    runs: usize,
     metrics: &mut std::collections::BTreeMap<String, f64>,
 ) -> Vec<Check> {
     for r in res {
+        // each point's own runs (a sequential sweep stops points early)
+        let made = (r.valid + r.invalid).max(1);
         metrics.insert(
             format!("invalid_fraction_{}", r.point.label),
-            r.invalid as f64 / runs as f64,
+            r.invalid as f64 / made as f64,
         );
     }
     let any = res.iter().find(|r| r.invalid > 0).map(|r| r.point.x[0]);
@@ -372,7 +375,13 @@ pub fn fig10_claims(points: &[&PointResult]) -> Vec<Claimed> {
                     mid.estimator().describe()
                 ),
             )
-            .drawn(drawn)]
+            .drawn(drawn)
+            .on_points(
+                [lo5, hi5, lo2, hi2]
+                    .iter()
+                    .map(|r| r.point.label.clone())
+                    .collect(),
+            )]
         }
         _ => Vec::new(),
     };
@@ -397,6 +406,83 @@ pub fn fig10_claims(points: &[&PointResult]) -> Vec<Claimed> {
         ("v_falls_more_small_g", more),
         ("v_changes_with_g", changes),
     ])
+}
+
+/// The checks of PH95 Fig. 8 from the points of its sweep over p (labels
+/// `p<value>`; `p0` and `p0.5` must be there): the p = 0 point against
+/// `waves-fig7` at `tier` (pinned), alpha rising from p = 0 to 0.5, and
+/// alpha and v at every p > 0 the same as at p = 0.5 (Fig. 8a-b; at the
+/// acceptance tier with the margins of [`super::acceptance::fig8_margin`]).
+pub fn fig8_checks(tier: crate::run::Tier, all: &[&PointResult]) -> Vec<Check> {
+    use super::sweep::{fig7_check, fig7_reference, rise_check, Fig7Case};
+    let find = |label: &str| all.iter().copied().find(|r| r.point.label == label);
+    let (Some(r0), Some(r5)) = (find("p0"), find("p0.5")) else {
+        return Vec::new();
+    };
+    let mut checks = vec![
+        fig7_check(
+            "p0_matches_waves_fig7",
+            r0,
+            fig7_reference(tier, Fig7Case::P0),
+            "p = 0, b = 0.5",
+        ),
+        rise_check("alpha_rises_with_p", r0, r5, "p = 0", "p = 0.5"),
+    ];
+    let acceptance = tier.is_acceptance();
+    for (q, threshold, source) in [
+        (
+            Quantity::Alpha,
+            ALPHA_MARGIN,
+            "PH95 Fig. 8a (alpha about constant for every p > 0)",
+        ),
+        (
+            Quantity::V,
+            V_SAME_MARGIN,
+            "PH95 Fig. 8b (v does not change with p within the error bars)",
+        ),
+    ] {
+        for r in all
+            .iter()
+            .filter(|r| r.point.x[0] > 0.0 && r.point.x[0] != 0.5)
+        {
+            // the acceptance tier's margin: threshold + the point's s_open
+            let m = super::acceptance::fig8_margin(q == Quantity::Alpha, r.point.x[0])
+                .filter(|_| acceptance);
+            checks.push(same_as_check(
+                &format!("{}_{}_same_as_p0.5", q.name(), r.point.label),
+                m.map_or(source, |m| m.source),
+                q,
+                r,
+                r5,
+                m.map_or(threshold, |m| m.delta()),
+                &m.map_or(String::new(), |m| format!("; {}", m.note())),
+            ));
+        }
+    }
+    checks
+}
+
+/// The checks of PH95 Fig. 10 from the points of its sweep (labels
+/// `b<b>_g<g>`; `b0_g0.5` and `b0.5_g0.5` must be there): the b = 0 point
+/// against `waves-fig7` at `tier` (pinned), alpha rising from b = 0 to 0.5,
+/// and the claims of [`fig10_claims`].
+pub fn fig10_checks(tier: crate::run::Tier, all: &[&PointResult]) -> Vec<Check> {
+    use super::sweep::{fig7_check, fig7_reference, rise_check, Fig7Case};
+    let find = |label: &str| all.iter().copied().find(|r| r.point.label == label);
+    let (Some(b0), Some(bmid)) = (find("b0_g0.5"), find("b0.5_g0.5")) else {
+        return Vec::new();
+    };
+    let mut checks = vec![
+        fig7_check(
+            "b0_matches_waves_fig7",
+            b0,
+            fig7_reference(tier, Fig7Case::B0),
+            "b = 0, p = 0.5",
+        ),
+        rise_check("alpha_rises_with_b", b0, bmid, "b = 0", "b = 0.5"),
+    ];
+    checks.extend(self::checks(fig10_claims(all)));
+    checks
 }
 
 /// Every check of `claims`, in order (what a figure binary grades).

@@ -454,7 +454,7 @@ pub struct SpectrumFigure<'a> {
 impl SpectrumFigure<'_> {
     /// [`run_figure`] with the reading, engine and design of the command
     /// line `args`.
-    pub fn run(&self, args: &crate::cli::SpectrumArgs) -> Result<Option<crate::run::Summary>> {
+    pub fn run(&self, args: &crate::cli::SequentialArgs) -> Result<Option<crate::run::Summary>> {
         args.check()?;
         let rules = args.pipe.rules.parse()?;
         let engine = args.pipe.rules.engine(args.pipe.common.tier)?;

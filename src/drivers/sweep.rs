@@ -235,7 +235,6 @@ pub fn run_sweep(
     runs: usize,
     setup_of: impl Fn(Params) -> SpectrumSetup,
 ) -> Result<Option<Vec<PointResult>>> {
-    use crate::ensemble::Outcome;
     let mut out = Vec::new();
     let mut sharded = false;
     for (k, point) in points.iter().enumerate() {
@@ -247,20 +246,9 @@ pub fn run_sweep(
             point.label,
             setup.steps()
         );
-        let key = serde_json::json!({"sweep-point": point.label, "spectrum": setup});
-        let ens = common.ensemble(binary, &key, runs)?;
-        match ens.run(setup.steps(), |_, seed, tick| sweep_run(&setup, seed, tick))? {
-            Outcome::Complete(v) => {
-                out.push(reduce(point, &setup, v, Estimator::of_tier(common.tier))?)
-            }
-            Outcome::ShardDone { shard, runs, dir } => {
-                println!(
-                    "{binary} {}: shard {shard} done, {runs} runs in {}",
-                    point.label,
-                    dir.display()
-                );
-                sharded = true;
-            }
+        match sweep_point(common, binary, point, runs, &setup)? {
+            Some(r) => out.push(r),
+            None => sharded = true,
         }
     }
     if sharded {
@@ -270,6 +258,108 @@ pub fn run_sweep(
         return Ok(None);
     }
     Ok(Some(out))
+}
+
+/// The first `runs` runs of one sweep point through the ensemble runner of
+/// `binary` (saved, resumed; named by the point's label), reduced; `None`
+/// when only a shard was computed (said on stdout).
+pub fn sweep_point(
+    common: &crate::cli::Common,
+    binary: &str,
+    point: &SweepPoint,
+    runs: usize,
+    setup: &SpectrumSetup,
+) -> Result<Option<PointResult>> {
+    use crate::ensemble::Outcome;
+    let key = serde_json::json!({"sweep-point": point.label, "spectrum": setup});
+    let ens = common.ensemble(binary, &key, runs)?;
+    match ens.run(setup.steps(), |_, seed, tick| sweep_run(setup, seed, tick))? {
+        Outcome::Complete(v) => reduce(point, setup, v, Estimator::of_tier(common.tier)).map(Some),
+        Outcome::ShardDone { shard, runs, dir } => {
+            println!(
+                "{binary} {}: shard {shard} done, {runs} runs in {}",
+                point.label,
+                dir.display()
+            );
+            Ok(None)
+        }
+    }
+}
+
+/// A sweep graded sequentially, point by point: at each look of `design`
+/// every point still open gets its runs up to the look (`run_point(point,
+/// n)`, resuming the earlier ones; `None` stops everything, e.g. a shard),
+/// the checks are computed from all points (`checks_of`), and each check
+/// with a claim that is decided at this look (its own boundary k_j), or
+/// reaches the last look, is frozen with where it stopped. A point stays
+/// open while an open check is computed from it (a check that names no
+/// points holds every point open). Returns the points' last results and
+/// the checks: the frozen ones as they stopped, the others (exact counts,
+/// identities) from the last results.
+pub fn sweep_looks(
+    design: &crate::analysis::sequential::Design,
+    points: &[SweepPoint],
+    mut run_point: impl FnMut(&SweepPoint, usize) -> Result<Option<PointResult>>,
+    checks_of: impl Fn(&[PointResult]) -> Vec<crate::run::Check>,
+) -> Result<Option<(Vec<PointResult>, Vec<crate::run::Check>)>> {
+    use crate::analysis::grading::{Estimate, Verdict};
+    use crate::analysis::sequential::Stop;
+    let mut results: Vec<Option<PointResult>> = vec![None; points.len()];
+    let mut open = vec![true; points.len()];
+    let mut frozen: Vec<crate::run::Check> = Vec::new();
+    let last = design.looks.len() - 1;
+    for (j, &n) in design.looks.iter().enumerate() {
+        for (k, point) in points.iter().enumerate() {
+            if open[k] {
+                let Some(r) = run_point(point, n)? else {
+                    return Ok(None);
+                };
+                results[k] = Some(r);
+            }
+        }
+        let now: Vec<PointResult> = results.iter().flatten().cloned().collect();
+        let checks = checks_of(&now);
+        let mut still_open = Vec::new();
+        for c in checks.into_iter().filter(|c| c.claim.is_some()) {
+            if frozen.iter().any(|f| f.name == c.name) {
+                continue;
+            }
+            let k = design.boundaries[j];
+            let c = c.regraded(k);
+            if c.verdict == Verdict::Undecided && j < last {
+                still_open.push(c);
+                continue;
+            }
+            let stop = Stop {
+                look: j,
+                runs: c.runs,
+                boundary: k,
+                verdict: c.verdict,
+                estimate: Estimate::new(c.measured, c.error, c.runs),
+            };
+            let note = super::acceptance::stop_note(design, &stop, c.claim.expect("has a claim"));
+            let mut c = c.stopped(design, &stop);
+            c.note.push_str(&format!("; {note}"));
+            frozen.push(c);
+        }
+        for (k, point) in points.iter().enumerate() {
+            open[k] = still_open
+                .iter()
+                .any(|c| c.points.is_empty() || c.points.contains(&point.label));
+        }
+        if !open.iter().any(|&o| o) {
+            break;
+        }
+    }
+    let now: Vec<PointResult> = results.into_iter().flatten().collect();
+    let checks = checks_of(&now)
+        .into_iter()
+        .map(|c| match frozen.iter().position(|f| f.name == c.name) {
+            Some(i) => frozen[i].clone(),
+            None => c,
+        })
+        .collect();
+    Ok(Some((now, checks)))
 }
 
 /// Site updates of a sweep: runs x steps x sites over all points.
@@ -615,6 +705,7 @@ pub fn fig7_check(
         },
         &format!("internal consistency: alpha at {what} against waves-fig7; error = SE of the point and of the reference combined"),
     )
+    .on_points(vec![r.point.label.clone()])
 }
 
 /// A published claim "`q` at point `r` equals `q` at `reference`" (PH95
@@ -658,6 +749,7 @@ pub fn same_as_check(
             point_words(&reference.point.label)
         ),
     })
+    .on_points(vec![r.point.label.clone(), reference.point.label.clone()])
 }
 
 /// A published value of alpha at a point: the per-run alpha of its valid
@@ -687,6 +779,7 @@ pub fn alpha_check(
         hi: target + margin,
         label: format!("published: alpha = {target} +- {margin}"),
     })
+    .on_points(vec![r.point.label.clone()])
 }
 
 /// The dissipation values of PH95 Fig. 8 at the paper and acceptance tiers
@@ -731,6 +824,7 @@ pub fn rise_check(
         points: vec![lo.point.label.clone(), hi.point.label.clone()],
         label: format!("published: alpha({hi_at}) > alpha({lo_at})"),
     })
+    .on_points(vec![lo.point.label.clone(), hi.point.label.clone()])
 }
 
 /// A sweep figure (PH95 Figs. 8-10) after its runs: the figure (name, paper,
@@ -787,6 +881,65 @@ impl<'a> SweepFigure<'a> {
         }))
     }
 
+    /// [`SweepFigure::run`] with the figure's checks: `checks_of` computes
+    /// them from the points' results. With `--sequential` the points run
+    /// look by look until their checks are decided ([`sweep_looks`], the
+    /// acceptance tier's design for the figure's fixed count); otherwise
+    /// every point runs the fixed count and the checks are computed once.
+    pub fn run_graded(
+        binary: &'static str,
+        paper: &'static str,
+        args: &'a crate::cli::SequentialArgs,
+        points: Vec<SweepPoint>,
+        checks_of: impl Fn(&[PointResult]) -> Vec<crate::run::Check>,
+    ) -> Result<Option<(Self, Vec<crate::run::Check>)>> {
+        if !args.sequential {
+            let Some(fig) = SweepFigure::run(binary, paper, &args.pipe, points)? else {
+                return Ok(None);
+            };
+            let checks = checks_of(&fig.results);
+            return Ok(Some((fig, checks)));
+        }
+        args.check()?;
+        let (figure, rules, engine, c) = args.pipe.rules.start(&args.pipe.common, binary, paper)?;
+        let design = super::acceptance::design(super::acceptance::sweep_runs(binary))?;
+        let setup_of = |p| super::spectra::tier_setup(c.tier, p, rules, engine);
+        let mut k = 0;
+        let looks = sweep_looks(
+            &design,
+            &points,
+            |point, n| {
+                k += 1;
+                let setup = setup_of(point.params);
+                eprintln!("{binary}: look {k}: point {} up to {n} runs", point.label);
+                sweep_point(c, binary, point, n, &setup)
+            },
+            &checks_of,
+        )?;
+        let Some((results, checks)) = looks else {
+            return Ok(None);
+        };
+        let runs = results
+            .iter()
+            .map(|r| r.valid + r.invalid)
+            .max()
+            .unwrap_or(0);
+        let out = figure.output(&c.out)?;
+        Ok(Some((
+            SweepFigure {
+                figure,
+                args: &args.pipe,
+                rules,
+                engine,
+                runs,
+                points,
+                results,
+                out,
+            },
+            checks,
+        )))
+    }
+
     /// The spectrum set-up of a pipe at this figure's tier and rules.
     pub fn setup_of(&self, params: Params) -> SpectrumSetup {
         super::spectra::tier_setup(self.args.common.tier, params, self.rules, self.engine)
@@ -832,11 +985,21 @@ impl<'a> SweepFigure<'a> {
         checks: Vec<crate::run::Check>,
     ) -> Result<()> {
         let seed = self.args.common.seed;
+        // each point's own runs (a sequential sweep stops points early)
+        let updates: f64 = self
+            .results
+            .iter()
+            .map(|r| {
+                let runs = (r.valid + r.invalid) as u64;
+                (runs * self.setup_of(r.point.params).steps() * r.point.params.sites() as u64)
+                    as f64
+            })
+            .sum();
         self.figure.finish(
             &self.out,
             crate::run::run_seeds(seed, self.runs),
             params,
-            site_updates(&self.points, self.runs, |p| self.setup_of(p)),
+            updates,
             metrics,
             checks,
         )
@@ -953,6 +1116,96 @@ mod tests {
         );
         // nothing about v was claimed
         assert_eq!(chart_marks(Quantity::V, &curve, &checks).rows(), 0);
+    }
+
+    #[test]
+    fn a_sequential_sweep_stops_the_points_whose_claims_are_decided() {
+        let design = crate::analysis::sequential::Design::doubling(
+            16,
+            128,
+            0.025,
+            crate::analysis::sequential::Spending::Pocock,
+        )
+        .unwrap();
+        let point = |label: &str, x: f64| SweepPoint {
+            label: label.into(),
+            x: vec![x],
+            params: Params::default(),
+        };
+        let points = [
+            point("p0.5", 0.5),
+            point("p0.2", 0.2),
+            point("p0.9", 0.9),
+            point("p1", 1.0),
+        ];
+        // alpha per point; one run has spread 0.2
+        let truth = |label: &str| match label {
+            "p0.2" => 1.3, // the same as the reference: decided early
+            "p0.9" => 1.4, // on the margin's edge (0.1): runs to the end
+            "p1" => 3.0,   // far off: decided not reproduced at once
+            _ => 1.3,
+        };
+        let mut asked: Vec<(String, usize)> = Vec::new();
+        let (results, checks) = sweep_looks(
+            &design,
+            &points,
+            |p, n| {
+                asked.push((p.label.clone(), n));
+                Ok(Some(PointResult {
+                    point: p.clone(),
+                    alpha: truth(&p.label),
+                    alpha_err: 0.2 / (n as f64).sqrt(),
+                    v: 0.4,
+                    v_err: 0.01,
+                    valid: n,
+                    invalid: 0,
+                    ensemble: None,
+                    of_mean: None,
+                }))
+            },
+            |rs| {
+                let reference = rs.iter().find(|r| r.point.label == "p0.5").unwrap();
+                rs.iter()
+                    .filter(|r| r.point.label != "p0.5")
+                    .map(|r| {
+                        same_as_check(
+                            &format!("a_{}", r.point.label),
+                            "s",
+                            Quantity::Alpha,
+                            r,
+                            reference,
+                            0.1,
+                            "",
+                        )
+                    })
+                    .collect()
+            },
+        )
+        .unwrap()
+        .unwrap();
+        let last = |label: &str| {
+            asked
+                .iter()
+                .filter(|(l, _)| l == label)
+                .map(|a| a.1)
+                .max()
+                .unwrap()
+        };
+        assert_eq!(last("p0.9"), 128);
+        assert_eq!(last("p0.5"), 128, "the reference serves the open claim");
+        assert!(last("p0.2") < 128, "{asked:?}");
+        assert_eq!(last("p1"), 16);
+        assert_eq!(results.len(), 4);
+        let by = |n: &str| checks.iter().find(|c| c.name == n).unwrap();
+        use crate::analysis::grading::Verdict;
+        assert_eq!(by("a_p0.2").verdict, Verdict::Reproduced);
+        assert_eq!(by("a_p1").verdict, Verdict::NotReproduced);
+        assert_eq!(by("a_p0.9").sequential.as_ref().unwrap().runs, 128);
+        assert!(
+            by("a_p1").note.contains("stopped at look 1 of 4"),
+            "{}",
+            by("a_p1").note
+        );
     }
 
     #[test]
