@@ -26,12 +26,14 @@ use std::time::Instant;
 const CARGO_TOML: &str = include_str!("../Cargo.toml");
 
 /// Binaries that are not figures (no `summary.json` of a figure): never run.
-const NOT_FIGURES: [&str; 9] = [
+const NOT_FIGURES: [&str; 11] = [
     "acceptance",
     "bench",
     "explore",
+    "fuzz",
     "merge",
     "report",
+    "sequential-design",
     "speed-accuracy",
     "validate",
     "validate-detection",
