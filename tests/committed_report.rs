@@ -277,3 +277,31 @@ fn the_report_page_shows_its_headline_and_a_card_per_figure() {
     let md = std::fs::read_to_string(dir().join("REPORT.md")).unwrap();
     assert!(md.contains("](headline.svg)"));
 }
+
+/// Every figure PNG of the committed report states what the paper publishes
+/// about it: the strip `run::PUBLISHED` writes under the picture (light
+/// grey at its left edge, where no text reaches), and every figure of the
+/// report has such a statement.
+#[test]
+#[ignore = "docs/report/waves-fig8 and waves-fig9 hold PNGs drawn before the strip; run once they are republished"]
+fn every_figure_png_shows_the_published_values() {
+    use granular_automata::run::PUBLISHED;
+    for f in report()["figures"].as_array().unwrap() {
+        let b = f["run"]["binary"].as_str().unwrap();
+        assert!(
+            PUBLISHED.iter().any(|(fig, _)| *fig == b),
+            "{b}: no published statement"
+        );
+        for p in f["pngs"].as_array().unwrap() {
+            let path = dir().join(b).join(p.as_str().unwrap());
+            let img = image::open(&path).unwrap().to_rgb8();
+            let px = img.get_pixel(1, img.height() - 3);
+            assert!(
+                px.0.iter().all(|&c| (236..=250).contains(&c)),
+                "{}: no published strip at the bottom (pixel {:?})",
+                path.display(),
+                px.0
+            );
+        }
+    }
+}
