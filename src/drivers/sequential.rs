@@ -192,27 +192,20 @@ pub fn write(
     md.push_str("\n| design | case | distance | reproduced | not reproduced | undecided | wrong | mean runs |\n|---|---|---|---|---|---|---|---|\n");
     for r in rows {
         let s = &r.sim;
-        csv.push_str(&format!(
-            "{},{},{},{},{},{},{},{}\n",
-            r.design,
-            r.case,
-            r.distance,
-            s.reproduced,
-            s.not_reproduced,
-            s.undecided,
-            s.wrong,
-            s.mean_runs
-        ));
+        let shares = [s.reproduced, s.not_reproduced, s.undecided, s.wrong];
+        let row = |share: &dyn Fn(f64) -> String, runs: String, sep: &str| {
+            let cells: Vec<String> = [r.design.clone(), r.case.clone(), r.distance.to_string()]
+                .into_iter()
+                .chain(shares.iter().map(|&x| share(x)))
+                .chain([runs])
+                .collect();
+            cells.join(sep)
+        };
+        csv.push_str(&row(&|x| x.to_string(), s.mean_runs.to_string(), ","));
+        csv.push('\n');
         md.push_str(&format!(
-            "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.1} |\n",
-            r.design,
-            r.case,
-            r.distance,
-            s.reproduced,
-            s.not_reproduced,
-            s.undecided,
-            s.wrong,
-            s.mean_runs
+            "| {} |\n",
+            row(&|x| format!("{x:.4}"), format!("{:.1}", s.mean_runs), " | ")
         ));
     }
     crate::run::write_atomic(&out.path("design.csv"), csv.as_bytes())?;
