@@ -82,11 +82,12 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     write_plan(&out, &claims, &planned, trials, &command)?;
     for p in &planned {
         println!(
-            "{}: {:.1} of {} claims decided, {:.2} against the truth, {:.0} runs",
+            "{}: {:.1} of {} claims decided, {:.2} against the truth, {:.1} as over the seed sets, {:.0} runs",
             p.design,
             p.decided,
             claims.len(),
             p.wrong,
+            p.agree,
             p.runs
         );
     }

@@ -6,7 +6,7 @@
 //! tier (one look at the maximum, k = max(2, t)). `sequential-design`
 //! writes the table and the plots.
 
-use crate::analysis::grading::Claim;
+use crate::analysis::grading::{Claim, Verdict};
 use crate::analysis::sequential::{simulate, simulate_claim, Design, Simulated, Source, Spending};
 use crate::error::{Error, ErrorKind, Result};
 use crate::plot::{line_chart_at, Line, PALETTE};
@@ -288,6 +288,8 @@ pub struct Committed {
     pub sd: f64,
     /// The report's fixed run count.
     pub fixed: usize,
+    /// The verdict over the committed seed sets, where there are some.
+    pub seed_sets: Option<Verdict>,
 }
 
 /// The published claims of the committed report `report.json` with a
@@ -321,6 +323,12 @@ pub fn committed_claims(report_json: &Path) -> Result<Vec<Committed>> {
             .as_f64()
             .filter(|x| x.is_finite())
             .unwrap_or(mean);
+        let seed_sets = match row["seed_sets"]["verdict"].as_str() {
+            Some("reproduced") => Some(Verdict::Reproduced),
+            Some("not-reproduced") => Some(Verdict::NotReproduced),
+            Some("undecided") => Some(Verdict::Undecided),
+            _ => None,
+        };
         out.push(Committed {
             name: format!(
                 "{}/{}",
@@ -331,6 +339,7 @@ pub fn committed_claims(report_json: &Path) -> Result<Vec<Committed>> {
             truth,
             sd: se * (runs as f64).sqrt(),
             fixed: runs as usize,
+            seed_sets,
         });
     }
     Ok(out)
@@ -372,6 +381,9 @@ pub struct Planned {
     pub wrong: f64,
     /// Expected runs over all claims (each claim counted alone).
     pub runs: f64,
+    /// Expected claims whose verdict equals the one decided over the
+    /// committed seed sets (of those where the seed sets decide).
+    pub agree: f64,
 }
 
 /// Simulate every committed claim (normal runs of its spread around its
@@ -394,8 +406,14 @@ pub fn plan(
                     decided: 0.0,
                     wrong: 0.0,
                     runs: 0.0,
+                    agree: 0.0,
                 });
             }
+            out[d].agree += match c.seed_sets {
+                Some(Verdict::Reproduced) => s.reproduced,
+                Some(Verdict::NotReproduced) => s.not_reproduced,
+                _ => 0.0,
+            };
             out[d].decided += 1.0 - s.undecided;
             out[d].wrong += s.wrong;
             out[d].runs += s.mean_runs;
@@ -414,16 +432,21 @@ pub fn write_plan(
     command: &str,
 ) -> Result<()> {
     let fixed_runs = plan.first().map_or(f64::NAN, |p| p.runs);
+    let decided_sets = claims
+        .iter()
+        .filter(|c| matches!(c.seed_sets, Some(v) if v != Verdict::Undecided))
+        .count();
     let mut md = format!(
-        "# Sequential designs over the committed claims\n\nWritten by `{command}`. Each of the {} published claims of docs/report/report.json with a value, a spread and at least 3 runs is simulated {trials} times: normal runs with the report's spread per run (SE x sqrt(runs)) around a plug-in truth (the mean over the committed seed sets where there are some, else the report's value), graded by each design. Each claim is counted alone: claims that share runs (one ensemble, one sweep point) would share their cost. Wrong: decided against the plug-in truth.\n\n| design | claims decided (expected) | decided against the truth (expected) | runs (expected) | runs / fixed |\n|---|---|---|---|---|\n",
+        "# Sequential designs over the committed claims\n\nWritten by `{command}`. Each of the {} published claims of docs/report/report.json with a value, a spread and at least 3 runs is simulated {trials} times: normal runs with the report's spread per run (SE x sqrt(runs)) around a plug-in truth (the mean over the committed seed sets where there are some, else the report's value), graded by each design. Each claim is counted alone: claims that share runs (one ensemble, one sweep point) would share their cost. Wrong: decided against the plug-in truth. Agree: the verdict of one seed set (base seed 1) equals the one over the committed seed sets, for the {decided_sets} claims those decide.\n\n| design | claims decided (expected) | decided against the truth (expected) | agree with the seed sets (expected, of {decided_sets}) | runs (expected) | runs / fixed |\n|---|---|---|---|---|---|\n",
         claims.len()
     );
     for p in plan {
         md.push_str(&format!(
-            "| {} | {:.1} | {:.2} | {:.0} | {:.2} |\n",
+            "| {} | {:.1} | {:.2} | {:.1} | {:.0} | {:.2} |\n",
             p.design,
             p.decided,
             p.wrong,
+            p.agree,
             p.runs,
             p.runs / fixed_runs
         ));
