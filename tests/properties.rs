@@ -22,10 +22,12 @@
 //! `PROPTEST_CASES=20000 cargo test --release --test properties`
 //! (docs/reference/generated-input.md has the measured counts and times).
 
+mod common;
+
+use common::certain::Certain;
 use granular_automata::hopper::{
     Aligned, ConflictRule, DilationReading, Dynamics, Hopper, HopperParams, RestPairs, UpdateOrder,
 };
-use granular_automata::pipe::draws::Draws;
 use granular_automata::pipe::engine::PipeEngine;
 use granular_automata::pipe::fast::FastPipe;
 use granular_automata::pipe::open::books_balance;
@@ -36,7 +38,6 @@ use granular_automata::run::{derive_seed, ensemble_with_threads};
 use proptest::prelude::*;
 use proptest::test_runner::Config;
 use std::cell::Cell;
-use std::rc::Rc;
 
 /// Cases per property in CI (`PROPTEST_CASES` overrides it).
 const CI_CASES: u32 = 2000;
@@ -293,46 +294,6 @@ proptest! {
 }
 
 // ---------------------------------------------------------------- lockstep
-
-/// The reference's draws when only certain steps are compared: counts every
-/// draw that had a real choice (and takes the first branch).
-#[derive(Clone, Default)]
-struct Certain {
-    choices: Rc<Cell<u64>>,
-    hops: Cell<u64>,
-}
-
-impl Certain {
-    fn choice(&self) {
-        self.choices.set(self.choices.get() + 1);
-    }
-}
-
-impl Draws for Certain {
-    fn uncertain(&mut self, _t: u64) -> bool {
-        self.choice();
-        false
-    }
-    fn pick(&mut self, _cumulative: &[u64]) -> usize {
-        self.choice();
-        0
-    }
-    fn coin(&mut self) -> bool {
-        self.choice();
-        false
-    }
-    fn below(&mut self, n: u32) -> u32 {
-        if n > 1 {
-            self.choice();
-        }
-        // a hash of a counter, so that a walk does not go back and forth
-        let mut z = self.hops.get().wrapping_add(0x9E37_79B9_7F4A_7C15);
-        self.hops.set(z);
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) % n as u64) as u32
-    }
-}
 
 /// Step the two engines side by side from the same state; compare every
 /// certain step (sites, N and the flux of the step); after a step with a

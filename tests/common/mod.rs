@@ -1,7 +1,9 @@
 //! Helpers shared by the tests: running a figure binary and reading its
-//! `summary.json` (here), the model tests' set-ups ([`models`]).
+//! `summary.json` (here), the model tests' set-ups ([`models`]), the
+//! reference's draws for comparing certain steps ([`certain`]).
 #![allow(dead_code)]
 
+pub mod certain;
 pub mod models;
 
 use std::ffi::OsStr;
