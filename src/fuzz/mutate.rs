@@ -46,19 +46,28 @@ pub const ODD_VALUES: [&str; 30] = [
 /// Byte sequences that are not UTF-8.
 const NOT_UTF8: [&[u8]; 4] = [&[0xff], &[0xc3], &[0xed, 0xa0, 0x80], &[0xf8, 0x88, 0x80]];
 
+/// Inside a JSON string at byte `i`: step past the byte (and the one an
+/// escape covers), note a closing quote, and return true; else false.
+fn inside_string(text: &[u8], i: &mut usize, in_str: &mut bool) -> bool {
+    if !*in_str {
+        return false;
+    }
+    match text[*i] {
+        b'\\' => *i += 1,
+        b'"' => *in_str = false,
+        _ => {}
+    }
+    *i += 1;
+    true
+}
+
 /// Spans `(start, end)` of the numbers of JSON `text` (outside strings).
 pub fn numbers(text: &[u8]) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
     let (mut i, mut in_str) = (0, false);
     while i < text.len() {
         let c = text[i];
-        if in_str {
-            if c == b'\\' {
-                i += 1;
-            } else if c == b'"' {
-                in_str = false;
-            }
-            i += 1;
+        if inside_string(text, &mut i, &mut in_str) {
             continue;
         }
         if c == b'"' {
@@ -89,13 +98,7 @@ pub fn members(text: &[u8]) -> Vec<(usize, usize)> {
     let (mut i, mut in_str) = (0, false);
     while i < text.len() {
         let c = text[i];
-        if in_str {
-            if c == b'\\' {
-                i += 1;
-            } else if c == b'"' {
-                in_str = false;
-            }
-            i += 1;
+        if inside_string(text, &mut i, &mut in_str) {
             continue;
         }
         match c {
