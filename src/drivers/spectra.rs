@@ -430,6 +430,52 @@ pub fn engine_validation(engine: Engine) -> &'static str {
 pub const DISCREPANCY: &str =
     "known discrepancy of this rule reading, see EXPERIMENTS.md 'Known discrepancies'";
 
+/// "The published fit is a typical single run of the model"
+/// ([`crate::analysis::representative`], docs/decisions/representative-spectrum.md):
+/// the published alpha inside the central 95 % of the per-run fits at the
+/// published set-up, each fit's error included. Its value is the share of
+/// the per-run fits below the published alpha (the mixture's distribution
+/// function there) with the SE of that mean over runs.
+pub fn representative_check(
+    fig: &SpectrumFigure,
+    ens: &SpectrumEnsemble,
+    seed: u64,
+) -> Result<crate::run::Check> {
+    use crate::analysis::representative::{representative, CENTRAL};
+    use crate::analysis::sequential::normal_sf;
+    let runs: Vec<(f64, f64)> = ens.runs.iter().map(|r| (r.alpha, r.alpha_err)).collect();
+    let published = fig.alpha.0;
+    let r = representative(&runs, published, seed ^ 0x7265_7072)?;
+    let below: Vec<f64> = runs
+        .iter()
+        .map(|&(a, e)| {
+            if e > 0.0 {
+                1.0 - normal_sf((published - a) / e)
+            } else {
+                f64::from(u8::from(a <= published))
+            }
+        })
+        .collect();
+    let (share, se) = crate::analysis::stats::mean_sem(&below);
+    Ok(crate::run::Check::with_verdict(
+        "alpha_representative",
+        crate::analysis::grading::Kind::Published,
+        &format!("{} (one run's spectrum, S = 4 segments)", fig.paper),
+        share,
+        se,
+        runs.len(),
+        r.verdict,
+        &format!(
+            "the published fit as a typical single run: alpha = {published} inside the central {:.0} % of the per-run fitted alpha, each run a normal of its fit error; ends {:.4} +- {:.4} and {:.4} +- {:.4} (bootstrap SE over runs), each graded against {published} by the one rule; the value is the share of per-run fits below {published}",
+            CENTRAL * 100.0,
+            r.low.mean,
+            r.low.se,
+            r.high.mean,
+            r.high.se
+        ),
+    ))
+}
+
 /// A published value with its agreement margin Delta: `(value, margin)`,
 /// graded by the equivalence rule of [`crate::analysis::grading`].
 pub type Published = (f64, f64);
@@ -620,6 +666,9 @@ pub fn run_figure(
             (Some(d), Some(st)) => check.stopped(d, st),
             _ => check,
         });
+    }
+    if acceptance {
+        checks.push(representative_check(fig, &ens, common.seed)?);
     }
     if !acceptance {
         checks.push(Check::published(
