@@ -148,3 +148,27 @@ def test_an_exception_of_the_candidate_is_raised_again():
 
     with pytest.raises(ZeroDivisionError, match="broke"):
         ga.validate(broken, level="1")
+
+
+def test_a_long_run_releases_the_gil_and_stops_on_ctrl_c():
+    import _thread
+    import threading
+    import time
+
+    ticks = []
+
+    def other_thread():
+        # runs while the engine steps: the GIL is free
+        for _ in range(5):
+            ticks.append(time.monotonic())
+            time.sleep(0.05)
+        _thread.interrupt_main()  # Ctrl-C
+
+    pipe = ga.Pipe(seed=4)
+    threading.Thread(target=other_thread).start()
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        pipe.run(10**12)
+    assert len(ticks) == 5
+    assert time.monotonic() - start < 30
+    assert 0 < pipe.time < 10**12
