@@ -81,7 +81,19 @@ pub fn bin_spectrum(
     seed: u64,
     tick: &(dyn Fn(u64) + Sync),
 ) -> Result<SpectrumRun> {
-    let series = bin_series(setup, seed, tick)?;
+    bin_spectrum_until(setup, seed, tick, &|| false)
+}
+
+/// [`bin_spectrum`] that stops with an [`crate::ErrorKind::Interrupted`]
+/// error once `stop()` is true (checked every 10000 steps; the Python
+/// module's Ctrl-C). A run that is not stopped is the same run.
+pub fn bin_spectrum_until(
+    setup: &SpectrumSetup,
+    seed: u64,
+    tick: &(dyn Fn(u64) + Sync),
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Result<SpectrumRun> {
+    let series = bin_series_until(setup, seed, tick, stop)?;
     let spectrum = spctrm(&series, &setup.spectrum_params())?;
     let est = estimate_alpha(&spectrum)?;
     Ok(SpectrumRun {
@@ -101,10 +113,30 @@ pub fn bin_series(
     seed: u64,
     tick: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<f64>> {
+    bin_series_until(setup, seed, tick, &|| false)
+}
+
+/// [`bin_series`] that stops with an [`crate::ErrorKind::Interrupted`]
+/// error once `stop()` is true, checked every 10000 steps.
+pub fn bin_series_until(
+    setup: &SpectrumSetup,
+    seed: u64,
+    tick: &(dyn Fn(u64) + Sync),
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Result<Vec<f64>> {
+    let stopped = || {
+        crate::Error::new(
+            crate::ErrorKind::Interrupted,
+            format!("run of seed {seed} interrupted"),
+        )
+    };
     let mut pipe = setup.engine.build(setup.params, setup.rules, seed)?;
     let chunk = 10_000u64;
     let mut left = setup.transient;
     while left > 0 {
+        if stop() {
+            return Err(stopped());
+        }
         let n = left.min(chunk);
         pipe.run(n)?;
         tick(n);
@@ -117,6 +149,9 @@ pub fn bin_series(
         series.push(pipe.bin_count(setup.bin_index) as f64);
         if s % 1000 == 999 {
             tick(1000 * setup.t0);
+            if stop() {
+                return Err(stopped());
+            }
         }
     }
     Ok(series)
