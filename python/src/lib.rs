@@ -3,7 +3,6 @@
 //! function calls the library's own code, so a run from Python is the run of
 //! the binaries, byte for byte.
 
-use granular_automata as ga;
 use ga::analysis::grading::{grade as grade_rule, Claim, Estimate};
 use ga::analysis::spectrum::{spctrm, SpectrumParams, Window};
 use ga::drivers::spectra::{bin_series_until, bin_spectrum_until, combine, tier_setup};
@@ -14,6 +13,7 @@ use ga::pipe::{Boundary, Engine, Params, Rules};
 use ga::run::{ensemble_with_threads, run_seeds, Tier};
 use ga::validate::candidate::{Candidate, RunPlan, Sample};
 use ga::{Error, ErrorKind};
+use granular_automata as ga;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueError};
@@ -66,25 +66,24 @@ fn params_of(
     boundary: &str,
     inject: Option<f64>,
 ) -> PyResult<Params> {
-    let boundary = match (boundary, inject) {
-        ("periodic", None) => Boundary::Periodic,
-        ("open", Some(inject)) => Boundary::Open { inject },
-        ("open", None) => {
-            return Err(PyValueError::new_err(
-                "boundary 'open' needs inject, the injection probability I in [0, 1]",
-            ))
-        }
-        ("periodic", Some(_)) => {
-            return Err(PyValueError::new_err(
+    let boundary =
+        match (boundary, inject) {
+            ("periodic", None) => Boundary::Periodic,
+            ("open", Some(inject)) => Boundary::Open { inject },
+            ("open", None) => {
+                return Err(PyValueError::new_err(
+                    "boundary 'open' needs inject, the injection probability I in [0, 1]",
+                ))
+            }
+            ("periodic", Some(_)) => return Err(PyValueError::new_err(
                 "inject is the open pipe's injection probability; drop it or use boundary='open'",
-            ))
-        }
-        (other, _) => {
-            return Err(PyValueError::new_err(format!(
-                "boundary '{other}': use 'periodic' or 'open'"
-            )))
-        }
-    };
+            )),
+            (other, _) => {
+                return Err(PyValueError::new_err(format!(
+                    "boundary '{other}': use 'periodic' or 'open'"
+                )))
+            }
+        };
     let params = Params {
         width,
         length,
@@ -122,10 +121,7 @@ fn params_dict<'py>(py: Python<'py>, p: &Params) -> PyResult<Bound<'py, PyDict>>
 /// A JSON value of the library as Python objects.
 fn from_json(py: Python<'_>, value: &impl serde::Serialize) -> PyResult<PyObject> {
     let text = serde_json::to_string(value).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    Ok(py
-        .import("json")?
-        .call_method1("loads", (text,))?
-        .unbind())
+    Ok(py.import("json")?.call_method1("loads", (text,))?.unbind())
 }
 
 /// Run `work` without the GIL on a thread of its own while this thread
@@ -545,7 +541,11 @@ fn spectrum_ensemble(
     d.set_item("alpha_of_mean", ens.fit_of_mean.fit.alpha)?;
     d.set_item("mean_spectrum", ens.mean_spectrum.clone().into_pyarray(py))?;
     let m = setup.m;
-    let flat: Vec<f64> = ens.runs.iter().flat_map(|r| r.spectrum.iter().copied()).collect();
+    let flat: Vec<f64> = ens
+        .runs
+        .iter()
+        .flat_map(|r| r.spectrum.iter().copied())
+        .collect();
     let spectra = Array2::from_shape_vec((ens.runs.len(), m), flat)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     d.set_item("spectra", spectra.into_pyarray(py))?;
@@ -644,7 +644,10 @@ fn claims(py: Python<'_>) -> PyResult<(Vec<(&'static str, &'static str)>, PyObje
             })
         })
         .collect();
-    Ok((ga::drivers::claims::CLAIMS.to_vec(), from_json(py, &margins)?))
+    Ok((
+        ga::drivers::claims::CLAIMS.to_vec(),
+        from_json(py, &margins)?,
+    ))
 }
 
 /// A candidate written in Python: `factory(params, rules, seed)` returns an
