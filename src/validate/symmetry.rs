@@ -166,8 +166,8 @@ pub fn profile(probe: &Probe, samples: &[Sample]) -> Result<RunProfile> {
             let mut f = [0.0; 8];
             for x in &w {
                 let total = x.channels.iter().sum::<u64>().max(1) as f64;
-                for c in 0..7 {
-                    f[c] += x.channels[c] as f64 / total / w.len() as f64;
+                for (fc, &n) in f.iter_mut().zip(&x.channels) {
+                    *fc += n as f64 / total / w.len() as f64;
                 }
                 f[7] += contrast(&x.bins) / w.len() as f64;
             }
@@ -367,6 +367,9 @@ fn max_row(scene: &str, observable: String, (zr, zk, p): (f64, f64, f64)) -> Com
     }
 }
 
+/// One value of a run's profile.
+type Pick<'a> = &'a dyn Fn(&RunProfile) -> f64;
+
 /// Every test of every probe: reference profiles `r`, candidate profiles
 /// `k` (one list per probe), without the Holm decisions.
 pub fn tests(probes: &[Probe], r: &[Vec<RunProfile>], k: &[Vec<RunProfile>]) -> Vec<Comparison> {
@@ -389,10 +392,8 @@ pub fn tests(probes: &[Probe], r: &[Vec<RunProfile>], k: &[Vec<RunProfile>]) -> 
         }
         if pr.windows {
             for (c, obs) in WINDOW_OBSERVABLES.iter().enumerate() {
-                let f = |runs: &[RunProfile], g: &dyn Fn(&RunProfile) -> f64| -> Vec<f64> {
-                    runs.iter().map(g).collect()
-                };
-                let cases: [(&str, &dyn Fn(&RunProfile) -> f64); 3] = [
+                let f = |runs: &[RunProfile], g: Pick| -> Vec<f64> { runs.iter().map(g).collect() };
+                let cases: [(&str, Pick); 3] = [
                     ("early", &|p| p.windows[0][c]),
                     ("late", &|p| p.windows[1][c]),
                     ("late - early", &|p| p.windows[1][c] - p.windows[0][c]),
