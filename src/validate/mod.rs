@@ -7,10 +7,12 @@
 //!   a Bonferroni family-wise false-alarm rate.
 //! - Level 2 ([`scenes`]): observables of short versions of the figures'
 //!   set-ups, reference and candidate on disjoint seeds, Welch tests with
-//!   Holm's family-wise control.
+//!   Holm's family-wise control; the symmetry probes ([`symmetry`]: rows,
+//!   mirror, early and late windows) join the same family.
 //!
 //! Candidates ([`candidate`]): the reference itself, a mutant of the
-//! catalogue ([`mutants`]), or an external program.
+//! catalogue ([`mutants`]), a defect of decomposition or time
+//! ([`defects`]), or an external program.
 
 pub mod candidate;
 pub mod conformance;
