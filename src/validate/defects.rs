@@ -9,6 +9,9 @@
 //!   with probability S: a halo exchanged with the wrong orientation. The
 //!   seam is row 0 alone (`seam`) or every K-th row, 0, K, 2K, ...
 //!   (`seam-K`, tiles of K rows). Mass is conserved.
+//! - `seam-sticky*S`: row 0 in the even columns, where a falling particle
+//!   comes to rest (if the rest channel is free) with probability S per
+//!   step: a seam that makes no upward mover.
 //! - `lane-boundary*S`: the fast engine (64 rows per word, `pipe::fast`)
 //!   with the same reversal at every site of the rows on either side of a
 //!   word boundary (rows 64j - 1 and 64j, and the wrap, rows L - 1 and 0).
@@ -33,6 +36,13 @@ pub enum Defect {
     Seam {
         /// The period K of the seam rows, if any.
         every: Option<usize>,
+        /// Probability per step and site, in [0, 1].
+        strength: f64,
+    },
+    /// A sticky seam: row 0 in the even columns, where a falling particle
+    /// (channel `down`) comes to rest, if the rest channel is free, with
+    /// probability `strength` per step.
+    StickySeam {
         /// Probability per step and site, in [0, 1].
         strength: f64,
     },
@@ -68,6 +78,10 @@ impl std::str::FromStr for Defect {
                 })
         };
         if let Some((head, f)) = s.split_once('*') {
+            if head == "seam-sticky" {
+                let strength = strength(f)?;
+                return Ok(Defect::StickySeam { strength });
+            }
             if head == "seam" {
                 let strength = strength(f)?;
                 return Ok(Defect::Seam {
@@ -126,7 +140,7 @@ impl Defect {
     /// Its class in [`CLASSES`].
     pub fn class(&self) -> &'static str {
         match self {
-            Defect::Seam { .. } => "seam",
+            Defect::Seam { .. } | Defect::StickySeam { .. } => "seam",
             Defect::LaneBoundary { .. } => "lane-boundary",
             Defect::Drift { .. } => "drift",
         }
@@ -151,16 +165,29 @@ struct Reversing {
     sites: Vec<(usize, usize)>,
     threshold: u64,
     rng: Xoshiro256PlusPlus,
+    /// The change made: [`reversed`] or [`stopped`].
+    change: fn(u8) -> u8,
 }
 
 impl Reversing {
     fn defect(&mut self) {
         for &(x, y) in &self.sites {
             let s = self.inner.site(x, y);
-            if s & 0x7e != 0 && (self.rng.next_u32() as u64) < self.threshold {
-                self.inner.set_site(x, y, reversed(s));
+            let t = (self.change)(s);
+            if t != s && (self.rng.next_u32() as u64) < self.threshold {
+                self.inner.set_site(x, y, t);
             }
         }
+    }
+}
+
+/// A falling particle (channel 4) put to rest (channel 0) when the rest
+/// channel is free; any other state unchanged.
+pub fn stopped(state: u8) -> u8 {
+    if state & 1 == 0 && state >> 4 & 1 == 1 {
+        (state & !(1 << 4)) | 1
+    } else {
+        state
     }
 }
 
@@ -263,6 +290,7 @@ impl EngineBuilder for Defect {
                 strength,
             } => format!("mutant:seam-{k}*{strength}"),
             Defect::LaneBoundary { strength } => format!("mutant:lane-boundary*{strength}"),
+            Defect::StickySeam { strength } => format!("mutant:seam-sticky*{strength}"),
             Defect::Drift { scaled, start } => format!("{}@{start}", EngineBuilder::name(scaled)),
         }
     }
@@ -289,8 +317,16 @@ impl EngineBuilder for Defect {
                     sites,
                     threshold: threshold(strength),
                     rng,
+                    change: reversed,
                 }))
             }
+            Defect::StickySeam { strength } => Ok(Box::new(Reversing {
+                inner: Reference.build(params, rules, seed)?,
+                sites: (0..w).step_by(2).map(|x| (x, 0)).collect(),
+                threshold: threshold(strength),
+                rng,
+                change: stopped,
+            })),
             Defect::LaneBoundary { strength } => {
                 let mut rows: Vec<usize> = (0..l).filter(|y| y % 64 == 0 || y % 64 == 63).collect();
                 rows.push(l - 1);
@@ -305,6 +341,7 @@ impl EngineBuilder for Defect {
                     sites,
                     threshold: threshold(strength),
                     rng,
+                    change: reversed,
                 }))
             }
             Defect::Drift { scaled, start } => Ok(Box::new(Drifting {
@@ -323,7 +360,13 @@ mod tests {
 
     #[test]
     fn specs_parse_and_name_themselves() {
-        for s in ["seam*0.5", "seam-16*1", "lane-boundary*0.25", "g*1.05@2000"] {
+        for s in [
+            "seam*0.5",
+            "seam-16*1",
+            "seam-sticky*0.1",
+            "lane-boundary*0.25",
+            "g*1.05@2000",
+        ] {
             let d: Defect = s.parse().unwrap();
             assert_eq!(d.name(), format!("mutant:{s}"));
         }
@@ -346,5 +389,7 @@ mod tests {
             assert_eq!(reversed(s).count_ones(), s.count_ones());
         }
         assert_eq!(reversed(0b10), 0b10000); // up to down
+        assert_eq!(stopped(0b10000), 0b1); // down to rest
+        assert_eq!(stopped(0b10001), 0b10001); // the rest channel is taken
     }
 }
