@@ -546,12 +546,14 @@ fn probes_of(spec: &str, seed: u64) -> Vec<granular_automata::validate::scenes::
 
 /// The symmetry probes of level 2 (VALIDATION.md, "Defects of
 /// decomposition and time") can fail: a seam of one row in alternate
-/// columns and reversals at the fast engine's word boundaries fail the rows
-/// probe, g 10 % high from step 2000 on fails the late window.
+/// columns (reversing movers, or stopping falling ones) and reversals at
+/// the fast engine's word boundaries fail the rows probe, g 10 % high from
+/// step 2000 on fails the late window.
 #[test]
 fn the_symmetry_probes_catch_a_seam_a_lane_boundary_and_a_late_drift() {
     for (spec, scene, what) in [
         ("seam*0.003", "", "rows "),
+        ("seam-sticky*0.01", "", "rows "),
         ("lane-boundary*0.003", "", "rows "),
         ("g*1.1@2000", "long", "(late)"),
     ] {
