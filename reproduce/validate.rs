@@ -57,10 +57,10 @@ struct Args {
     /// update of the run's plan); a run over it is stopped and named.
     #[arg(long, value_parser = |s: &str| parse_real("--run-timeout", s, 0.001, 1e6), allow_negative_numbers = true)]
     run_timeout: Option<f64>,
-    /// Trials and runs that catch a rule probability off by this relative
-    /// error (e.g. 3%) with power 0.95; prints them and the cost first.
-    #[arg(long, value_parser = detect::parse_error, conflicts_with_all = ["trials", "runs"])]
-    detect: Option<f64>,
+    /// Trials and runs that catch a rule probability off by E (e.g. 3%), or
+    /// CLASS:E (seam, lane-boundary, drift), with power 0.95; prints them and the cost.
+    #[arg(long, value_parser = detect::parse_target, conflicts_with_all = ["trials", "runs"])]
+    detect: Option<detect::Target>,
     /// Write the reference pipe's exact level-1 table as JSON to this file and exit.
     #[arg(long)]
     export_table: Option<PathBuf>,

@@ -7,7 +7,7 @@
 //! `cargo run --release --bin validate-detection -- docs/validate-detection`
 
 use granular_automata::plot::{line_chart_at, register_fonts, Line, PALETTE};
-use granular_automata::validate::detect::{check_row, Row};
+use granular_automata::validate::detect::{check_row, defect_table, Row};
 use plotters::prelude::{RGBColor, SeriesLabelPosition};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
@@ -43,6 +43,12 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
+    let defects: Vec<Row> = rows
+        .iter()
+        .filter(|r| r.class() != "rule")
+        .cloned()
+        .collect();
+    rows.retain(|r| r.class() == "rule");
     if rows.is_empty() {
         return Err(format!("no --repeat CSV of a mutant:KNOB*F in {}", dir.display()).into());
     }
@@ -116,6 +122,12 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
                 .collect();
             println!("| `{knob}` | {} |", cells.join(" | "));
         }
+    }
+    if !defects.is_empty() {
+        println!(
+            "\ndefects of decomposition and time\n\n{}",
+            defect_table(&defects)
+        );
     }
     Ok(())
 }

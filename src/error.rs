@@ -19,6 +19,8 @@ pub enum ErrorKind {
     BadSeries,
     /// Reading or writing an output file failed.
     Io,
+    /// The caller stopped the work (Ctrl-C in the Python module).
+    Interrupted,
 }
 
 /// A failure with a message that names the value, the allowed range and the fix.

@@ -26,9 +26,10 @@ use std::time::Instant;
 const CARGO_TOML: &str = include_str!("../Cargo.toml");
 
 /// Binaries that are not figures (no `summary.json` of a figure): never run.
-const NOT_FIGURES: [&str; 11] = [
+const NOT_FIGURES: [&str; 12] = [
     "acceptance",
     "bench",
+    "bridge",
     "explore",
     "fuzz",
     "merge",

@@ -10,7 +10,9 @@ use common::certain::Certain;
 use common::models::pipe;
 use granular_automata::pipe::engine::{EngineBuilder, PipeEngine, Reference};
 use granular_automata::pipe::fast::{Fast, FastPipe};
-use granular_automata::pipe::{Boundary, Flux, GravityWording, Params, Pipe, RestPlacement, Rules};
+use granular_automata::pipe::{
+    Boundary, Flux, GravityWording, LaneCollide, Params, Pipe, RestPlacement, Rules,
+};
 use granular_automata::ErrorKind;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -430,6 +432,44 @@ fn lane_collide_deflects_a_down_mover_resting_on_another() {
         after_one_step(open, "default+lane-collide", &ends),
         [(2, 7, down)]
     );
+    // `lane-collide:q`: q alone decides, whatever p is
+    let deflected = [(1, 3, dl), (2, 2, down), (3, 3, dr)];
+    let fallen = [(1, 3, dl), (2, 2, down), (2, 3, down)];
+    assert_eq!(
+        after_one_step(p0, "default+lane-collide:1", &init),
+        deflected
+    );
+    assert_eq!(after_one_step(p, "default+lane-collide:0", &init), fallen);
+    assert_eq!(after_one_step(p0, "default+lane-collide:0", &init), fallen);
+}
+
+/// `lane-collide:0` draws nothing and changes nothing: a run of it is the
+/// default's run, byte for byte, in both engines; `lane-collide:q` at q = p
+/// is `lane-collide`, byte for byte.
+#[test]
+fn lane_collide_at_q_zero_is_the_default_and_at_p_is_lane_collide() {
+    let p = params(11, 64, false, 0.5, 0.5, 0.5);
+    let run = |rules: &str, fast: bool| {
+        let r: Rules = rules.parse().unwrap();
+        let mut e = if fast {
+            Fast.build(p, r, SEED).unwrap()
+        } else {
+            Reference.build(p, r, SEED).unwrap()
+        };
+        for _ in 0..300 {
+            e.step().unwrap();
+        }
+        let sites = (0..p.width).flat_map(|x| (0..p.length).map(move |y| (x, y)));
+        sites.map(|(x, y)| e.site(x, y)).collect::<Vec<u8>>()
+    };
+    for fast in [false, true] {
+        assert_eq!(run("default", fast), run("default+lane-collide:0", fast));
+        assert_eq!(
+            run("default+lane-collide", fast),
+            run("default+lane-collide:0.5", fast)
+        );
+        assert_ne!(run("default", fast), run("default+lane-collide:0.5", fast));
+    }
 }
 
 /// What `lane-collide` does to the gas (EXPERIMENTS.md "Extensions beyond
@@ -742,7 +782,11 @@ fn every_reading_is_supported() {
                 fhp_rest: flags & 64 != 0,
                 inject_down: flags & 128 != 0,
                 inject_late: flags & 256 != 0,
-                lane_collide: flags & 512 != 0,
+                lane_collide: if flags & 512 != 0 {
+                    LaneCollide::AtP
+                } else {
+                    LaneCollide::Off
+                },
             };
             if rules.gravity_first && rules.gravity_last {
                 let e = Fast.build(Params::default(), rules, SEED).err().unwrap();

@@ -32,7 +32,8 @@ use granular_automata::pipe::engine::PipeEngine;
 use granular_automata::pipe::fast::FastPipe;
 use granular_automata::pipe::open::books_balance;
 use granular_automata::pipe::{
-    is_validity_limit, Boundary, Engine, GravityWording, Params, Pipe, RestPlacement, Rules,
+    is_validity_limit, Boundary, Engine, GravityWording, LaneCollide, Params, Pipe, Probability,
+    RestPlacement, Rules,
 };
 use granular_automata::run::{derive_seed, ensemble_with_threads};
 use proptest::prelude::*;
@@ -64,10 +65,11 @@ fn certain() -> BoxedStrategy<f64> {
     prop_oneof![Just(0.0), Just(1.0)].boxed()
 }
 
-/// Every rule reading: a gravity wording and any set of the ten switches
-/// (`gravity-first` wins over `gravity-last`, which it excludes).
+/// Every rule reading: a gravity wording, any set of the ten switches
+/// (`gravity-first` wins over `gravity-last`, which it excludes), and
+/// `lane-collide` at p or at a probability q of its own.
 fn rules() -> impl Strategy<Value = Rules> {
-    (0..4usize, any::<[bool; 10]>()).prop_map(|(g, s)| {
+    (0..4usize, any::<[bool; 10]>(), unit()).prop_map(|(g, s, q)| {
         let gravity = [
             GravityWording::Ph94,
             GravityWording::AnyMover,
@@ -89,7 +91,11 @@ fn rules() -> impl Strategy<Value = Rules> {
             fhp_rest: s[6],
             inject_down: s[7],
             inject_late: s[8],
-            lane_collide: s[9],
+            lane_collide: match (s[9], g % 2 == 0) {
+                (false, _) => LaneCollide::Off,
+                (true, true) => LaneCollide::AtP,
+                (true, false) => LaneCollide::At(Probability::new(q).unwrap()),
+            },
         }
     })
 }

@@ -14,12 +14,15 @@
 //!   reproduced / undecided).
 //! - [`sequential`]: the one rule at looks fixed in advance, with boundaries
 //!   from an error-spending rule (group-sequential grading).
+//! - [`representative`]: whether a published single-run fit is a typical
+//!   run of the model (the central 95 % of the per-run fits).
 //! - [`stats`]: Student's t tail and critical values for one-sided tests.
 
 pub mod fit;
 pub mod grading;
 pub mod mean_spectrum;
 pub mod relaxation;
+pub mod representative;
 pub mod resample;
 pub mod sequential;
 pub mod spectrum;

@@ -19,6 +19,8 @@ pub mod acceptance;
 pub mod acceptance_study;
 /// PH94 Fig. 1: the density bands of its four panels over an ensemble, their checks and plots.
 pub mod bands;
+/// The calibrated bridge `lane-collide:q`: kinds of claims, the split, the rule that picks q.
+pub mod bridge;
 pub mod claims;
 /// PH95 Fig. 12: I_c by bisection at every pipe size, N(t), the spectra's rates, checks and panels.
 pub mod critical;

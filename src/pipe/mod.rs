@@ -42,7 +42,7 @@ pub use choice::Engine;
 pub use observables::Flux;
 pub use reference::Pipe;
 pub use relocation::is_validity_limit;
-pub use rules::{GravityWording, RestPlacement, Rules};
+pub use rules::{GravityWording, LaneCollide, Probability, RestPlacement, Rules};
 
 use crate::error::{check_min, check_range, check_unit, Error, ErrorKind, Result};
 use serde::{Deserialize, Serialize};

@@ -60,8 +60,9 @@ pub struct Pipe<D = Xoshiro256PlusPlus> {
     gravity_moves: [Moves; 128],
     g_t: u64,
     b_t: u64,
-    /// p as a threshold (`lane-collide`, READINGS.md P23).
-    p_t: u64,
+    /// The probability of `lane-collide` (p, or q of `lane-collide:q`) as a
+    /// threshold (READINGS.md P23); 0 when the rule is off.
+    lane_t: u64,
     inject_t: u64,
     extras: Vec<u32>,
     /// The site bytes at the start of the gravity sub-step (`rest-ahead`
@@ -160,7 +161,7 @@ impl Pipe {
             gravity_moves: gravity_table(rules.gravity),
             g_t: threshold(params.g),
             b_t: threshold(params.b),
-            p_t: threshold(params.p),
+            lane_t: threshold(rules.lane_collide.probability(params.p)),
             inject_t: match params.boundary {
                 Boundary::Open { inject } => threshold(inject),
                 Boundary::Periodic => 0,
@@ -204,7 +205,7 @@ impl Pipe {
             gravity_moves: self.gravity_moves,
             g_t: self.g_t,
             b_t: self.b_t,
-            p_t: self.p_t,
+            lane_t: self.lane_t,
             inject_t: self.inject_t,
             extras: self.extras,
             before: self.before,
@@ -259,7 +260,7 @@ impl<D: Draws> Pipe<D> {
     pub fn set_p(&mut self, p: f64) -> Result<()> {
         check_unit("p", p)?;
         self.params.p = p;
-        self.p_t = threshold(p);
+        self.lane_t = threshold(self.rules.lane_collide.probability(p));
         self.table = CollisionTable::for_rules(p, self.rules);
         self.build_kinds();
         Ok(())
@@ -379,7 +380,7 @@ impl<D: Draws> SubSteps for Pipe<D> {
         if !self.extras.is_empty() {
             self.relocate()?;
         }
-        if self.rules.lane_collide {
+        if self.rules.lane_collide.is_on() {
             self.lane_collide();
         }
         Ok(())
@@ -551,7 +552,7 @@ impl<D: Draws> Pipe<D> {
     /// choosing when both are free. Below row 0 the periodic pipe wraps; the
     /// open pipe has no site there.
     fn lane_collide(&mut self) {
-        if self.p_t == 0 {
+        if self.lane_t == 0 {
             return;
         }
         self.before.clone_from(&self.cells);
@@ -570,7 +571,7 @@ impl<D: Draws> Pipe<D> {
                     continue;
                 }
                 let free = (s & bit(3) == 0, s & bit(5) == 0);
-                if !(free.0 || free.1) || !self.rng.chance(self.p_t) {
+                if !(free.0 || free.1) || !self.rng.chance(self.lane_t) {
                     continue;
                 }
                 let to = match free {

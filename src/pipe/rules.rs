@@ -133,12 +133,76 @@ pub struct Rules {
     /// text): two down-movers in contact along the pipe collide. After the
     /// collisions and relocation (A3, A4), a channel-4 mover whose neighbour
     /// below (along 4, MODEL.md A1) held a channel-4 mover at the start of
-    /// this sub-step is deflected to 3 or 5 with probability p (a fair coin
-    /// when both are empty, the empty one otherwise, no move when neither
-    /// is). Below row 0 of the open pipe there is no site; the periodic pipe
-    /// wraps. The pair's downward momentum drops from 2 to 3/2, a
-    /// dissipative collision, hence p; at p = 0 the rule does nothing.
-    pub lane_collide: bool,
+    /// this sub-step is deflected to 3 or 5 with probability p, or q with
+    /// `lane-collide:q` (a fair coin when both are empty, the empty one
+    /// otherwise, no move when neither is). Below row 0 of the open pipe there
+    /// is no site; the periodic pipe wraps. The pair's downward momentum drops
+    /// from 2 to 3/2, a dissipative collision, hence p; at probability 0 the
+    /// rule does nothing.
+    pub lane_collide: LaneCollide,
+}
+
+/// Whether and how often two down-movers in contact collide (`lane-collide`,
+/// READINGS.md P23).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum LaneCollide {
+    /// No such collision (the text's rules, the default).
+    Off,
+    /// `lane-collide`: with probability p, the papers' probability of a
+    /// dissipative collision \[PH94 (2); PH95 II\].
+    AtP,
+    /// `lane-collide:q`: with a probability q of its own, independent of p
+    /// (READINGS.md P23, the one-knob bridge between the lane and the gas).
+    At(Probability),
+}
+
+impl LaneCollide {
+    /// Whether the rule acts at all.
+    pub fn is_on(self) -> bool {
+        self != LaneCollide::Off
+    }
+
+    /// Its probability at dissipation `p`: p for `lane-collide`, q for
+    /// `lane-collide:q`, 0 when off.
+    pub fn probability(self, p: f64) -> f64 {
+        match self {
+            LaneCollide::Off => 0.0,
+            LaneCollide::AtP => p,
+            LaneCollide::At(q) => q.get(),
+        }
+    }
+}
+
+/// A probability in \[0, 1\] written in a reading's name (`lane-collide:0.1`);
+/// compared and hashed by its bits, which is exact since it is never NaN.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Probability(f64);
+
+impl Probability {
+    /// `q`, or a typed error naming it and the allowed range.
+    pub fn new(q: f64) -> Result<Self, Error> {
+        if q.is_finite() && (0.0..=1.0).contains(&q) {
+            Ok(Probability(q + 0.0)) // -0 is written as 0
+        } else {
+            Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!("rules: lane-collide probability q = {q} is outside [0, 1]"),
+            ))
+        }
+    }
+
+    /// The value.
+    pub fn get(self) -> f64 {
+        self.0
+    }
+}
+
+impl Eq for Probability {}
+
+impl std::hash::Hash for Probability {
+    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
+        self.0.to_bits().hash(h);
+    }
 }
 
 impl Rules {
@@ -155,7 +219,7 @@ impl Rules {
         fhp_rest: false,
         inject_down: false,
         inject_late: false,
-        lane_collide: false,
+        lane_collide: LaneCollide::Off,
     };
 }
 
@@ -243,7 +307,7 @@ pub const RULE_NAMES: [(&str, &str); 15] = [
     ),
     (
         "lane-collide",
-        "a down-mover above another is deflected to 3 or 5 with probability p (an extension)",
+        "a down-mover above another is deflected to 3 or 5 with probability p (an extension); lane-collide:q with a probability q in [0, 1] of its own",
     ),
 ];
 
@@ -297,8 +361,8 @@ const SWITCHES: [Switch; 10] = [
     ("inject-late", |r| r.inject_late, |r| r.inject_late = true),
     (
         "lane-collide",
-        |r| r.lane_collide,
-        |r| r.lane_collide = true,
+        |r| r.lane_collide == LaneCollide::AtP,
+        |r| r.lane_collide = LaneCollide::AtP,
     ),
 ];
 
@@ -306,7 +370,11 @@ impl fmt::Display for Rules {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let mut parts = vec![self.gravity.name()];
         parts.extend(SWITCHES.iter().filter(|s| (s.1)(self)).map(|s| s.0));
-        write!(f, "{}", parts.join("+"))
+        let q = match self.lane_collide {
+            LaneCollide::At(q) => format!("+lane-collide:{}", q.get()),
+            _ => String::new(),
+        };
+        write!(f, "{}{q}", parts.join("+"))
     }
 }
 
@@ -328,7 +396,28 @@ impl FromStr for Rules {
             } else if let Some(&g) = GravityWording::ALL.iter().find(|g| g.name() == part) {
                 Some(g)
             } else if let Some(switch) = SWITCHES.iter().find(|sw| sw.0 == part) {
+                if part == "lane-collide" && r.lane_collide.is_on() {
+                    return Err(Error::new(
+                        ErrorKind::InvalidParameter,
+                        format!("rules: '{s}' names lane-collide twice; name it once, with or without :q"),
+                    ));
+                }
                 (switch.2)(&mut r);
+                None
+            } else if let Some(q) = part.strip_prefix("lane-collide:") {
+                let q: f64 = q.parse().map_err(|_| {
+                    Error::new(
+                        ErrorKind::InvalidParameter,
+                        format!("rules: '{part}' in '{s}' needs a number q in [0, 1] after 'lane-collide:'"),
+                    )
+                })?;
+                if r.lane_collide.is_on() {
+                    return Err(Error::new(
+                        ErrorKind::InvalidParameter,
+                        format!("rules: '{s}' names lane-collide twice; name it once, with or without :q"),
+                    ));
+                }
+                r.lane_collide = LaneCollide::At(Probability::new(q)?);
                 None
             } else {
                 let known: Vec<&str> = RULE_NAMES.iter().map(|n| n.0).collect();
@@ -398,6 +487,40 @@ mod tests {
         assert_eq!(
             RULE_NAMES.len(),
             1 + GravityWording::ALL.len() + SWITCHES.len()
+        );
+    }
+
+    #[test]
+    fn lane_collide_takes_a_probability_of_its_own() {
+        let r: Rules = "default+lane-collide:0.05".parse().unwrap();
+        assert_eq!(r.lane_collide.probability(0.5), 0.05);
+        assert_eq!(
+            r.to_string(),
+            "ph94+gravity-first+wall-move+inject-late+lane-collide:0.05"
+        );
+        assert_eq!(r.to_string().parse::<Rules>().unwrap(), r);
+        let at_p: Rules = "default+lane-collide".parse().unwrap();
+        assert_eq!(at_p.lane_collide.probability(0.3), 0.3);
+        assert_eq!(Rules::default().lane_collide.probability(0.3), 0.0);
+        assert_ne!(r, at_p);
+        for bad in ["1.5", "-0.1", "NaN", "inf", "", "p"] {
+            let e = format!("default+lane-collide:{bad}")
+                .parse::<Rules>()
+                .unwrap_err();
+            assert!(e.message.contains("[0, 1]"), "{bad}: {}", e.message);
+        }
+        for twice in [
+            "default+lane-collide+lane-collide:0.1",
+            "default+lane-collide:0.1+lane-collide",
+            "default+lane-collide:0.1+lane-collide:0.2",
+        ] {
+            let e = twice.parse::<Rules>().unwrap_err();
+            assert!(e.message.contains("twice"), "{twice}: {}", e.message);
+        }
+        let zero: Rules = "default+lane-collide:-0".parse().unwrap();
+        assert_eq!(
+            zero.to_string(),
+            "ph94+gravity-first+wall-move+inject-late+lane-collide:0"
         );
     }
 

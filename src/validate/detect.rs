@@ -33,6 +33,22 @@ pub const LEVEL1_C: f64 = 4.25;
 /// 20 (an upper bound). Measured 2026-12-05.
 pub const LEVEL2_C: (f64, f64) = (0.085, 0.04);
 
+/// Strength x sqrt(level-2 runs) of `mutant:seam*S` at power 0.95, quick
+/// and standard scenes (VALIDATION.md, "Defects of decomposition and
+/// time"): S = 0.001 with 8 runs caught 20 of 20 times at quick, 0.0003 10
+/// of 20 (measured 2026-12-07). The standard tier uses the quick constant
+/// (its probes run longer: an upper bound).
+pub const SEAM_C: (f64, f64) = (0.0029, 0.0029);
+
+/// Strength x sqrt(level-2 runs) of `mutant:lane-boundary*S` at power
+/// 0.95: S = 0.0001 with 8 runs caught 20 of 20 times at quick, the
+/// smallest strength measured (an upper bound).
+pub const LANE_C: (f64, f64) = (0.00029, 0.00029);
+
+/// Relative error x sqrt(level-2 runs) of `mutant:g*F@2000` at power 0.95:
+/// F = 1.05 with 8 runs caught 20 of 20 times at quick, 1.03 9 of 20.
+pub const DRIFT_C: (f64, f64) = (0.142, 0.142);
+
 /// Level-1 CPU seconds per trial per state (reference and candidate both
 /// the reference engine; `validate --level 1`, quick 4.1 s for 4000
 /// trials, standard 20.3 s for 20000, measured 2026-12-05).
@@ -41,6 +57,96 @@ pub const LEVEL1_CPU_PER_TRIAL: f64 = 1.0e-3;
 /// Level-2 CPU seconds per run per engine (all scenes, both engines): quick
 /// 3.05 s for 8 runs, standard 19.95 s for 16 runs (measured 2026-12-05).
 pub const LEVEL2_CPU_PER_RUN: (f64, f64) = (0.38, 1.25);
+
+/// The class of defect `--detect` sizes a validation for (VALIDATION.md,
+/// "What each level can see").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Class {
+    /// A rule probability off by a relative error (levels 1 and 2).
+    Rule,
+    /// A seam of one row in alternate columns, reversal with probability S
+    /// per step and site (`mutant:seam*S`; level 2, the rows probe).
+    Seam,
+    /// Reversals at the word boundaries of the fast engine with probability
+    /// S (`mutant:lane-boundary*S`; level 2, the rows probe).
+    LaneBoundary,
+    /// g off by a relative error from step 2000 on (`mutant:g*F@2000`;
+    /// level 2, the window probe).
+    Drift,
+}
+
+impl Class {
+    /// Its name, as `--detect CLASS:E` takes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Class::Rule => "rule",
+            Class::Seam => "seam",
+            Class::LaneBoundary => "lane-boundary",
+            Class::Drift => "drift",
+        }
+    }
+
+    /// What its size means, for the line `--detect` prints.
+    fn what(self) -> &'static str {
+        match self {
+            Class::Rule => "any rule probability off by that much",
+            Class::Seam => {
+                "a seam of one row in alternate columns reversing moving particles with that probability per step"
+            }
+            Class::LaneBoundary => {
+                "reversals at 64-row word boundaries with that probability per step"
+            }
+            Class::Drift => "g off by that much from step 2000 on",
+        }
+    }
+
+    /// Size x sqrt(level-2 runs) at power 0.95 at the quick and standard
+    /// scenes ([`LEVEL2_C`] for a rule probability; the others measured
+    /// with the defect mutants, VALIDATION.md).
+    fn level2_c(self) -> (f64, f64) {
+        match self {
+            Class::Rule => LEVEL2_C,
+            Class::Seam => SEAM_C,
+            Class::LaneBoundary => LANE_C,
+            Class::Drift => DRIFT_C,
+        }
+    }
+}
+
+/// The classes, as `--detect CLASS:E` names them.
+pub const CLASSES: [Class; 4] = [Class::Rule, Class::Seam, Class::LaneBoundary, Class::Drift];
+
+/// A target of `--detect`: a class and the size of its defect.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Target {
+    /// The class.
+    pub class: Class,
+    /// The relative error (rule, drift) or the strength (seam, lane boundary).
+    pub e: f64,
+}
+
+/// Parse the value of `--detect`: `E` (a rule probability off by E) or
+/// `CLASS:E`, CLASS one of [`CLASSES`], E as [`parse_error`] takes it.
+pub fn parse_target(s: &str) -> Result<Target> {
+    let (class, e) = match s.split_once(':') {
+        None => (Class::Rule, s),
+        Some((c, e)) => {
+            let class = CLASSES
+                .iter()
+                .find(|k| k.name() == c.trim())
+                .copied()
+                .ok_or_else(|| {
+                    let names: Vec<&str> = CLASSES.iter().map(|k| k.name()).collect();
+                    Error::out_of_range("--detect class", c, &names.join(", "))
+                })?;
+            (class, e)
+        }
+    };
+    Ok(Target {
+        class,
+        e: parse_error(e)?,
+    })
+}
 
 /// What `--detect` chose.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -85,14 +191,16 @@ pub const MAX_RUNS: usize = 10_000;
 /// the `levels` asked (the other's count stays as given), within
 /// `max_trials` and [`MAX_RUNS`].
 pub fn plan(
-    e: f64,
+    target: Target,
     tier: Tier,
     levels: Level,
     (trials, runs): (usize, usize),
     max_trials: usize,
 ) -> Result<Detect> {
+    let Target { class, e } = target;
     let max_runs = MAX_RUNS;
-    let c2 = tier.pick(LEVEL2_C.0, LEVEL2_C.1, LEVEL2_C.1);
+    let c2 = class.level2_c();
+    let c2 = tier.pick(c2.0, c2.1, c2.1);
     let per_run = tier.pick(
         LEVEL2_CPU_PER_RUN.0,
         LEVEL2_CPU_PER_RUN.1,
@@ -114,7 +222,7 @@ pub fn plan(
         runs,
         cpu_seconds: 0.0,
     };
-    if levels != Level::Two {
+    if levels != Level::Two && class == Class::Rule {
         d.trials = needed(LEVEL1_C, e).max(super::conformance::MIN_TRIALS);
         if d.trials > max_trials {
             return Err(too_small("level 1 trials per state", LEVEL1_C, max_trials));
@@ -133,26 +241,43 @@ pub fn plan(
 
 /// `validate --detect e`: set the trials and runs of `size` for `e` at
 /// `tier` and `levels` ([`plan`]); the line to print before starting.
-pub fn resize(size: &mut super::Size, e: f64, tier: Tier, levels: Level) -> Result<String> {
+pub fn resize(size: &mut super::Size, t: Target, tier: Tier, levels: Level) -> Result<String> {
     let max_trials = super::conformance::MAX_TRIALS;
-    let d = plan(e, tier, levels, (size.trials, size.runs), max_trials)?;
+    if t.class != Class::Rule && levels == Level::One {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!(
+                "--detect {}: level 1 cannot see this class; use --level 2 or all",
+                t.class.name()
+            ),
+        ));
+    }
+    let d = plan(t, tier, levels, (size.trials, size.runs), max_trials)?;
     (size.trials, size.runs) = (d.trials, d.runs);
-    Ok(describe(&d, levels))
+    Ok(describe(&d, t.class, levels))
 }
 
-/// The line `validate --detect` prints before it starts.
-pub fn describe(d: &Detect, levels: Level) -> String {
+/// The line `validate --detect` prints before it starts, naming the class
+/// it sizes for.
+pub fn describe(d: &Detect, class: Class, levels: Level) -> String {
     let mut parts = Vec::new();
-    if levels != Level::Two {
+    if levels != Level::Two && class == Class::Rule {
         parts.push(format!("level 1 with {} trials per state", d.trials));
     }
     if levels != Level::One {
         parts.push(format!("level 2 with {} runs per engine per scene", d.runs));
     }
+    let blind = if class == Class::Rule || levels == Level::Two {
+        ""
+    } else {
+        " (level 1 cannot see it: its trials stay as given)"
+    };
     format!(
-        "--detect {:.2}%: {} (power 0.95 against any rule probability off by that much); about {:.0} CPU-s ({:.1} CPU-min) for a candidate as fast as the reference",
+        "--detect {:.2}%: {}{blind} (power 0.95 against {}: class {}); about {:.0} CPU-s ({:.1} CPU-min) for a candidate as fast as the reference",
         100.0 * d.e,
         parts.join(" and "),
+        class.what(),
+        class.name(),
         d.cpu_seconds,
         d.cpu_seconds / 60.0
     )
@@ -174,6 +299,64 @@ pub struct Row {
     pub failed: usize,
     /// Validations.
     pub total: usize,
+    /// The step a drift starts at (`mutant:KNOB*F@T`), if it is one.
+    pub start: Option<u64>,
+}
+
+impl Row {
+    /// Its class: `seam` and `lane-boundary` (the factor is the
+    /// strength S), `drift` (a start step), or `rule`.
+    pub fn class(&self) -> &'static str {
+        if self.knob.starts_with("seam") {
+            "seam"
+        } else if self.knob == "lane-boundary" {
+            "lane-boundary"
+        } else if self.start.is_some() {
+            "drift"
+        } else {
+            "rule"
+        }
+    }
+}
+
+/// The defect rows of `rows` (every class but `rule`) as a Markdown table,
+/// one line per (tier, level, mutant): the mutant as `--candidate` names
+/// it and its failures.
+pub fn defect_table(rows: &[Row]) -> String {
+    let mut s =
+        String::from("| class | tier | level | candidate | failed |\n|---|---|---|---|---|\n");
+    let mut mine: Vec<&Row> = rows.iter().filter(|r| r.class() != "rule").collect();
+    mine.sort_by(|a, b| {
+        (
+            a.class(),
+            a.tier.as_str(),
+            a.level,
+            a.knob.as_str(),
+            a.start,
+        )
+            .cmp(&(
+                b.class(),
+                b.tier.as_str(),
+                b.level,
+                b.knob.as_str(),
+                b.start,
+            ))
+            .then(a.factor.total_cmp(&b.factor))
+    });
+    for r in mine {
+        let at = r.start.map_or(String::new(), |t| format!("@{t}"));
+        s.push_str(&format!(
+            "| {} | {} | {} | `mutant:{}*{}{at}` | {} / {} |\n",
+            r.class(),
+            r.tier,
+            r.level,
+            r.knob,
+            r.factor,
+            r.failed,
+            r.total
+        ));
+    }
+    s
 }
 
 /// The row of one `--repeat` CSV (its header comment names the candidate
@@ -204,6 +387,16 @@ pub fn check_row(text: &str) -> std::result::Result<Option<Row>, String> {
         Some("One") => 1,
         Some("Two") => 2,
         _ => return Ok(None),
+    };
+    let (f, start) = match f.split_once('@') {
+        Some((f, t)) => (
+            f,
+            Some(
+                t.parse::<u64>()
+                    .map_err(|_| format!("start {t:?} is not a step"))?,
+            ),
+        ),
+        None => (f, None),
     };
     let factor: f64 = f
         .parse()
@@ -242,6 +435,7 @@ pub fn check_row(text: &str) -> std::result::Result<Option<Row>, String> {
         factor,
         failed,
         total: rows.len(),
+        start,
     }))
 }
 
@@ -259,6 +453,12 @@ mod tests {
         );
         assert_eq!((r.factor, r.failed, r.total), (1.05, 2, 3));
         assert!(read_row("# candidate=reference level=One tier=Quick\n").is_none());
+        let drift = text.replace("p-r3*1.05", "g*1.05@2000");
+        let d = read_row(&drift).unwrap();
+        assert_eq!((d.class(), d.start, d.factor), ("drift", Some(2000), 1.05));
+        let seam = read_row(&text.replace("p-r3*1.05", "seam*0.001")).unwrap();
+        assert_eq!((seam.class(), seam.factor), ("seam", 0.001));
+        assert!(defect_table(&[r, d, seam]).contains("`mutant:g*1.05@2000` | 2 / 3"));
     }
 
     #[test]
@@ -274,12 +474,16 @@ mod tests {
     #[test]
     fn counts_grow_as_one_over_e_squared() {
         let lim = 1_000_000;
-        let a = plan(0.10, Tier::Quick, Level::One, (4000, 8), lim).unwrap();
-        let b = plan(0.05, Tier::Quick, Level::One, (4000, 8), lim).unwrap();
+        let rule = |e| Target {
+            class: Class::Rule,
+            e,
+        };
+        let a = plan(rule(0.10), Tier::Quick, Level::One, (4000, 8), lim).unwrap();
+        let b = plan(rule(0.05), Tier::Quick, Level::One, (4000, 8), lim).unwrap();
         assert_eq!(a.trials, 1807); // (4.25 / 0.1)^2 = 1806.25
         assert!((b.trials as f64 / a.trials as f64 - 4.0).abs() < 0.01);
         assert_eq!(a.runs, 8); // level 2 not asked: the tier's
-        let e = plan(0.001, Tier::Quick, Level::One, (4000, 8), lim).unwrap_err();
+        let e = plan(rule(0.001), Tier::Quick, Level::One, (4000, 8), lim).unwrap_err();
         assert!(format!("{e}").contains("smallest error"), "{e}");
     }
 }

@@ -7,13 +7,16 @@
 //!   a Bonferroni family-wise false-alarm rate.
 //! - Level 2 ([`scenes`]): observables of short versions of the figures'
 //!   set-ups, reference and candidate on disjoint seeds, Welch tests with
-//!   Holm's family-wise control.
+//!   Holm's family-wise control; the symmetry probes ([`symmetry`]: rows,
+//!   mirror, early and late windows) join the same family.
 //!
 //! Candidates ([`candidate`]): the reference itself, a mutant of the
-//! catalogue ([`mutants`]), or an external program.
+//! catalogue ([`mutants`]), a defect of decomposition or time
+//! ([`defects`]), or an external program.
 
 pub mod candidate;
 pub mod conformance;
+pub mod defects;
 pub mod detect;
 pub mod external_hopper;
 pub mod hopper;
@@ -21,6 +24,7 @@ pub mod memory;
 pub mod mutants;
 pub mod repeat;
 pub mod scenes;
+pub mod symmetry;
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::hopper::engine::HopperBuilder;
@@ -86,6 +90,10 @@ pub fn candidate_from(
         return Ok(Box::new(Builtin(crate::pipe::fast::Fast)));
     }
     if let Some(name) = spec.strip_prefix("mutant:") {
+        if defects::Defect::is_defect(name) {
+            let d: defects::Defect = name.parse()?;
+            return Ok(Box::new(Builtin(d)));
+        }
         if name.contains('*') {
             let m: mutants::Scaled = name.parse()?;
             return Ok(Box::new(Builtin(m)));
@@ -105,7 +113,7 @@ pub fn candidate_from(
     Err(Error::new(
         ErrorKind::InvalidParameter,
         format!(
-            "--candidate {spec} is not known; use reference, fast, mutant:NAME (one of: {}), mutant:KNOB*FACTOR (e.g. mutant:p*1.03) or cmd:'COMMAND'",
+            "--candidate {spec} is not known; use reference, fast, mutant:NAME (one of: {}), mutant:KNOB*FACTOR (e.g. mutant:p*1.03), a defect mutant:seam*S, mutant:seam-K*S, mutant:lane-boundary*S or mutant:KNOB*FACTOR@STEP, or cmd:'COMMAND'",
             mutants::MUTANTS
                 .iter()
                 .map(|(n, _)| *n)
@@ -330,11 +338,14 @@ fn run_levels(
         let sampling = scenes::Sampling::new(size.runs, seed, ALPHA)?;
         let reference = Builtin(Reference);
         let engines = (&reference as &dyn Candidate, cand);
+        let probes = symmetry::compare(engines, tier, rules, sampling, tick)?;
+        let updates = symmetry::site_updates(tier, size.runs);
         report.level2 = Some(scenes::level2(
             engines,
             &scenes::scenes(tier),
             rules,
             sampling,
+            (probes, updates),
             tick,
         )?);
     }
@@ -395,6 +406,7 @@ pub fn jobs(levels: Level, model: Model, tier: Tier, size: Size) -> u64 {
         }
         if two {
             n += 2 * size.runs as u64 * scenes::scenes(tier).len() as u64;
+            n += symmetry::jobs(tier, size.runs);
         }
     }
     if model.hopper() {

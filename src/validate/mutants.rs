@@ -1,6 +1,8 @@
 //! The catalogue of mutant engines (VALIDATION.md): the reference engine with one
 //! plausible bug each. `validate` must fail every one of them; the power
 //! table of EXPERIMENTS.md says which level catches which, at what cost.
+//! Defects of decomposition and time with a stated size (seams, lane
+//! boundaries, drifts) are in [`super::defects`].
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::hopper::energy::{aligned, f_shear, motion, pair_index, EnergyTable, STATES};

@@ -305,11 +305,7 @@ pub fn compare(
             });
         }
     }
-    let ps: Vec<f64> = comparisons.iter().map(|c| c.p_value).collect();
-    for (c, (thr, rej)) in comparisons.iter_mut().zip(holm(&ps, alpha)) {
-        c.holm_threshold = thr;
-        c.differs = rej;
-    }
+    decide(&mut comparisons, alpha);
     comparisons
 }
 
@@ -340,26 +336,41 @@ impl Sampling {
     }
 }
 
+/// Holm's decisions over every comparison of `cs` at family-wise rate
+/// `alpha` (thresholds and rejections set in place).
+pub fn decide(cs: &mut [Comparison], alpha: f64) {
+    let ps: Vec<f64> = cs.iter().map(|c| c.p_value).collect();
+    for (c, (thr, rej)) in cs.iter_mut().zip(holm(&ps, alpha)) {
+        c.holm_threshold = thr;
+        c.differs = rej;
+    }
+}
+
 /// Level 2: compare `cand` with `reference` on every scene of the pipe
-/// reading `rules`.
+/// reading `rules`; the tests of `extra` (the symmetry probes, with their
+/// site updates) join the same Holm family.
 pub fn level2(
     (reference, cand): (&dyn Candidate, &dyn Candidate),
     scenes: &[Scene],
     rules: &str,
     sampling: Sampling,
+    extra: (Vec<Comparison>, f64),
     tick: &(dyn Fn() + Sync),
 ) -> Result<Level2> {
     let Sampling { runs, seed, alpha } = sampling;
     let r = run_scenes(reference, scenes, rules, runs, seed, tick)?;
     let c = run_scenes(cand, scenes, rules, runs, seed ^ CANDIDATE_SALT, tick)?;
     let names: Vec<&str> = scenes.iter().map(|sc| sc.name).collect();
-    let comparisons = compare(&names, &r, &c, alpha);
-    let site_updates = 2.0
-        * runs as f64
-        * scenes
-            .iter()
-            .map(|s| ((s.warmup + s.steps) as usize * s.params.sites()) as f64)
-            .sum::<f64>();
+    let mut comparisons = compare(&names, &r, &c, alpha);
+    comparisons.extend(extra.0);
+    decide(&mut comparisons, alpha);
+    let site_updates = extra.1
+        + 2.0
+            * runs as f64
+            * scenes
+                .iter()
+                .map(|s| ((s.warmup + s.steps) as usize * s.params.sites()) as f64)
+                .sum::<f64>();
     Ok(Level2 {
         runs,
         alpha,

@@ -99,8 +99,9 @@ pub struct FastPipe<R = Xoshiro256PlusPlus> {
     collision: CollisionThresholds,
     g_t: u64,
     b_t: u64,
-    /// p as a threshold (`lane-collide`, READINGS.md P23).
-    p_t: u64,
+    /// The probability of `lane-collide` (p, or q of `lane-collide:q`) as a
+    /// threshold (READINGS.md P23); 0 when the rule is off.
+    lane_t: u64,
     inject_t: u64,
     /// Per column: the channels that leave the open pipe through the bottom
     /// from row 0, and through the top from row L-1 (MODEL.md A7).
@@ -137,7 +138,7 @@ impl FastPipe {
             collision: CollisionThresholds::new(&CollisionTable::new(params.p)),
             g_t: threshold(params.g),
             b_t: threshold(params.b),
-            p_t: threshold(params.p),
+            lane_t: threshold(rules.lane_collide.probability(params.p)),
             inject_t: match params.boundary {
                 Boundary::Open { inject } => threshold(inject),
                 Boundary::Periodic => 0,
@@ -171,7 +172,7 @@ impl FastPipe {
             collision: self.collision,
             g_t: self.g_t,
             b_t: self.b_t,
-            p_t: self.p_t,
+            lane_t: self.lane_t,
             inject_t: self.inject_t,
             exits: self.exits,
             segments: self.segments,
@@ -224,7 +225,7 @@ impl<R: Rng + Clone + Send> FastPipe<R> {
     pub fn set_p(&mut self, p: f64) -> Result<()> {
         check_unit("p", p)?;
         self.params.p = p;
-        self.p_t = threshold(p);
+        self.lane_t = threshold(self.rules.lane_collide.probability(p));
         self.collision = CollisionThresholds::new(&CollisionTable::new(p));
         Ok(())
     }
@@ -337,7 +338,7 @@ impl<R: Rng + Clone + Send> SubSteps for FastPipe<R> {
         if !self.extras.is_empty() {
             self.relocate()?;
         }
-        if self.rules.lane_collide {
+        if self.rules.lane_collide.is_on() {
             self.lane_collide();
         }
         Ok(())
@@ -483,7 +484,7 @@ impl<R: Rng + Clone + Send> FastPipe<R> {
     /// this sub-step is deflected to 3 or 5 with probability p (a fair coin
     /// when both are free), as the reference does.
     fn lane_collide(&mut self) {
-        if self.p_t == 0 {
+        if self.lane_t == 0 {
             return;
         }
         let periodic = self.params.boundary == Boundary::Periodic;
@@ -495,7 +496,8 @@ impl<R: Rng + Clone + Send> FastPipe<R> {
             for (k, &under) in below.iter().enumerate() {
                 let s = &mut self.grid.column_mut(x)[k];
                 let (free3, free5) = (!s[3], !s[5]);
-                let hit = lanes::bernoulli(&mut self.rng, self.p_t, s[4] & under & (free3 | free5));
+                let hit =
+                    lanes::bernoulli(&mut self.rng, self.lane_t, s[4] & under & (free3 | free5));
                 let coin = lanes::coins(&mut self.rng, hit & free3 & free5);
                 let to5 = hit & free5 & (!free3 | coin);
                 let to3 = hit & !to5;
