@@ -156,6 +156,8 @@ def test_a_long_run_releases_the_gil_and_stops_on_ctrl_c():
     script = """
 import os, signal, threading, time
 import granular_automata as ga
+# as in an interactive Python (a shell's background job starts with SIGINT ignored)
+signal.signal(signal.SIGINT, signal.default_int_handler)
 ticks = []
 def other():
     for _ in range(5):
