@@ -302,3 +302,22 @@ fn no_file_speaks_of_how_it_was_made() {
         "files that speak of how the project was made: {found:?}"
     );
 }
+
+/// The notebook's index (docs/notebook/README.md) links every dated entry
+/// in the folder, so a new entry cannot go unlisted.
+#[test]
+fn the_notebook_index_lists_every_entry() {
+    let dir = root().join("docs/notebook");
+    let index = fs::read_to_string(dir.join("README.md")).unwrap();
+    let mut entries = vec![];
+    walk(&dir, "md", false, &mut entries);
+    let missing: Vec<String> = entries
+        .iter()
+        .filter_map(|p| p.file_name()?.to_str().map(str::to_owned))
+        .filter(|n| n.starts_with("20") && !index.contains(&format!("({n})")))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "notebook entries missing from docs/notebook/README.md: {missing:?}"
+    );
+}
