@@ -126,6 +126,8 @@ fn claim(row: &Value) -> String {
     match row["test"].as_str().unwrap_or("") {
         "above" => format!("> {}", num(&row["tolerance"])),
         "below" => format!("< {}", num(&row["tolerance"])),
+        // a claim without one published number (its note states it)
+        _ if row["published"].is_null() => "as stated below".into(),
         _ => format!("{} +- {}", num(&row["published"]), num(&row["tolerance"])),
     }
 }

@@ -283,7 +283,6 @@ fn the_report_page_shows_its_headline_and_a_card_per_figure() {
 /// grey at its left edge, where no text reaches), and every figure of the
 /// report has such a statement.
 #[test]
-#[ignore = "docs/report/waves-fig8 and waves-fig9 hold PNGs drawn before the strip; run once they are republished"]
 fn every_figure_png_shows_the_published_values() {
     use granular_automata::run::PUBLISHED;
     for f in report()["figures"].as_array().unwrap() {
