@@ -2503,6 +2503,8 @@ fn published_or_claim(x: &Row) -> String {
     match (x.test.as_str(), x.published, x.tolerance) {
         ("above", _, Some(t)) => format!("> {}", sig(t, 4)),
         ("below", _, Some(t)) => format!("< {}", sig(t, 4)),
+        // a claim without one published number: the first clause of its note
+        (_, None, _) if !x.note.is_empty() => x.note.split(';').next().unwrap_or("").to_string(),
         _ => published(x),
     }
 }
