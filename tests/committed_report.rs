@@ -142,6 +142,7 @@ fn stays_a_few_megabytes() {
 fn readme_headline_is_the_report() {
     let r = report();
     let mut per_paper: Vec<(String, [usize; 3])> = vec![];
+    let mut seed1 = [0; 3];
     for row in r["rows"].as_array().unwrap() {
         let published = row["kind"] == "published"
             || (row["kind"] == "unstated" && !row["published"].is_null());
@@ -149,6 +150,11 @@ fn readme_headline_is_the_report() {
             continue;
         }
         let paper = row["paper"].as_str().unwrap().to_string();
+        seed1[match row["verdict"].as_str().unwrap() {
+            "reproduced" => 0,
+            "not-reproduced" => 1,
+            _ => 2,
+        }] += 1;
         // the verdict over the committed seed sets where there is one
         let verdict = row["seed_sets"]["verdict"]
             .as_str()
@@ -190,6 +196,14 @@ fn readme_headline_is_the_report() {
     }
     let line = format!("| all | {} | {} | {} |", all[0], all[1], all[2]);
     assert!(table.contains(&line), "README's table lacks `{line}`");
+    let alone = format!(
+        "By base seed 1 alone the counts are {}, {} and {}.",
+        seed1[0], seed1[1], seed1[2]
+    );
+    assert!(
+        readme.contains(&alone),
+        "README lacks `{alone}` (from docs/report/report.json)"
+    );
 }
 
 /// README stays short, and says how to validate one's own engine early.
