@@ -157,7 +157,7 @@ pub fn progress(len: u64, what: &str) -> ProgressBar {
     pb
 }
 
-/// One graded check of a figure (DEVELOPERS.md, output contract): a
+/// One graded check of a figure (docs/reference/outputs.md, summary.json): a
 /// statistic measured over `runs` independent runs, the claim it is graded
 /// against by the one rule of [`crate::analysis::grading`], and the verdict.
 #[derive(Debug, Clone, Serialize)]

@@ -1,4 +1,4 @@
-//! The one grading rule of the project (DEVELOPERS.md "Grading"): every
+//! The one grading rule of the project (docs/reference/grading.md): every
 //! check of every figure binary, the reproduction matrix and `validate`
 //! grade a claim with the functions here.
 //!
@@ -83,7 +83,7 @@ impl Verdict {
     }
 }
 
-/// What a check compares against (DEVELOPERS.md, output contract).
+/// What a check compares against (docs/reference/outputs.md, summary.json).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Kind {
