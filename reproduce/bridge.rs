@@ -12,7 +12,7 @@ use clap::Parser;
 use granular_automata::cli::Common;
 use granular_automata::drivers::bridge::{chart, choose, decide, reading, score_rows, split, GRID};
 use granular_automata::drivers::claims::{Group, MatrixSize};
-use granular_automata::drivers::matrix::{write_tables, Matrix};
+use granular_automata::drivers::matrix::{heat_map, write_tables, Matrix};
 use granular_automata::pipe::{Engine, Rules};
 use granular_automata::run::write_atomic;
 use granular_automata::run::Output;
@@ -71,6 +71,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     let decision = decide(q, &grid[0].1, picked, &test);
     let scores = score_rows(&grid);
     write_tables(&out, &rows, (tier, size, seed))?;
+    heat_map(&out, &rows, tier, size.runs)?;
     chart(&out.path("bridge.png"), &scores, q)?;
     let mut csv = String::from("q,half,kind,reproduced,not_reproduced,undecided\n");
     for r in &scores {

@@ -268,47 +268,60 @@ pub fn score_rows(grid: &[(f64, Vec<Graded>)]) -> Vec<ScoreRow> {
     rows
 }
 
-/// `c` halfway to white.
-fn light(c: RGBColor) -> RGBColor {
-    let h = |v: u8| ((v as u16 + 255) / 2) as u8;
-    RGBColor(h(c.0), h(c.1), h(c.2))
-}
+/// Where q = 0 (the default) is drawn on the log10 q axis: one decade left
+/// of the smallest q of the grid.
+pub const Q0_AT: f64 = -4.5;
 
-/// The trade-off figure: claims reproduced against log10 q, waves claims
-/// and gas claims of each half, the default (q = 0) as a dashed level.
+/// The trade-off figure: claims reproduced against log10 q for each half,
+/// its waves claims, its gas claims and all its claims, with q = 0 (the
+/// default) drawn at `Q0_AT`. Lines that would coincide are drawn up to
+/// 0.1 apart, so none hides another (the axis label says so).
 pub fn chart(path: &Path, rows: &[ScoreRow], picked: f64) -> Result<()> {
-    let colors = [
-        (("calibration", Kind::Waves), RGBColor(31, 119, 180)),
-        (("calibration", Kind::Gas), RGBColor(255, 127, 14)),
-        (("test", Kind::Waves), RGBColor(44, 160, 44)),
-        (("test", Kind::Gas), RGBColor(214, 39, 40)),
+    let series = [
+        (
+            "calibration",
+            Some(Kind::Waves),
+            RGBColor(31, 119, 180),
+            -0.1,
+        ),
+        (
+            "calibration",
+            Some(Kind::Gas),
+            RGBColor(255, 127, 14),
+            -0.06,
+        ),
+        ("calibration", None, RGBColor(0, 0, 0), -0.02),
+        ("test", Some(Kind::Waves), RGBColor(44, 160, 44), 0.02),
+        ("test", Some(Kind::Gas), RGBColor(214, 39, 40), 0.06),
+        ("test", None, RGBColor(148, 103, 189), 0.1),
     ];
+    let x = |q: f64| if q > 0.0 { q.log10() } else { Q0_AT };
+    let mut qs: Vec<f64> = rows.iter().map(|r| r.q).collect();
+    qs.sort_by(f64::total_cmp);
+    qs.dedup();
     let mut lines = Vec::new();
-    for ((half, k), color) in colors {
-        let of = |r: &&ScoreRow| r.half == half && r.kind == k;
-        let pts: Vec<(f64, f64)> = rows
+    for (half, k, color, dy) in series {
+        let pts: Vec<(f64, f64)> = qs
             .iter()
-            .filter(of)
-            .filter(|r| r.q > 0.0)
-            .map(|r| (r.q.log10(), r.score.reproduced as f64))
+            .map(|&q| {
+                let n: usize = rows
+                    .iter()
+                    .filter(|r| r.q == q && r.half == half && k.is_none_or(|k| r.kind == k))
+                    .map(|r| r.score.reproduced)
+                    .sum();
+                (x(q), n as f64 + dy)
+            })
             .collect();
-        let at0 = rows.iter().filter(of).find(|r| r.q == 0.0);
-        let name = format!("{half}, {} claims", format!("{k:?}").to_lowercase());
-        if let (Some(r0), Some(first), Some(last)) = (at0, pts.first(), pts.last()) {
-            let y = r0.score.reproduced as f64;
-            lines.push(Line::new(
-                &format!("{name}: q = 0 (default)"),
-                vec![(first.0, y), (last.0, y)],
-                light(color),
-            ));
-        }
-        lines.push(Line::new(&name, pts, color));
+        let what = k.map_or("all".to_string(), |k| format!("{k:?}").to_lowercase());
+        lines.push(Line::new(&format!("{half}, {what} claims"), pts, color));
     }
     line_chart(
         path,
-        &format!("lane-collide:q, claims reproduced against q (picked on the calibration half: q = {picked})"),
-        "log10 q",
-        "claims reproduced",
+        &format!(
+            "lane-collide:q: claims reproduced against q (q = 0 at {Q0_AT}); picked on the calibration half: q = {picked}"
+        ),
+        "log10 q (the default, q = 0, drawn at the left edge)",
+        "claims reproduced (lines up to 0.1 apart)",
         &lines,
         false,
     )
