@@ -143,6 +143,12 @@ fn readme_headline_is_the_report() {
     let r = report();
     let mut per_paper: Vec<(String, [usize; 3])> = vec![];
     let mut seed1 = [0; 3];
+    // reproduced, not reproduced, undecided
+    let column = |v: Option<&str>| match v.unwrap() {
+        "reproduced" => 0,
+        "not-reproduced" => 1,
+        _ => 2,
+    };
     for row in r["rows"].as_array().unwrap() {
         let published = row["kind"] == "published"
             || (row["kind"] == "unstated" && !row["published"].is_null());
@@ -150,20 +156,12 @@ fn readme_headline_is_the_report() {
             continue;
         }
         let paper = row["paper"].as_str().unwrap().to_string();
-        seed1[match row["verdict"].as_str().unwrap() {
-            "reproduced" => 0,
-            "not-reproduced" => 1,
-            _ => 2,
-        }] += 1;
+        seed1[column(row["verdict"].as_str())] += 1;
         // the verdict over the committed seed sets where there is one
         let verdict = row["seed_sets"]["verdict"]
             .as_str()
             .or(row["verdict"].as_str());
-        let i = match verdict.unwrap() {
-            "reproduced" => 0,
-            "not-reproduced" => 1,
-            _ => 2,
-        };
+        let i = column(verdict);
         match per_paper.iter_mut().find(|(p, _)| *p == paper) {
             Some((_, t)) => t[i] += 1,
             None => {
