@@ -176,54 +176,67 @@ impl PipeArgs {
     }
 }
 
-/// The options of a pipe figure that can grade sequentially (PH94 Fig. 2,
-/// PH95 Figs. 6 and 8-10): [`PipeArgs`] and `--sequential`.
+/// The options of a pipe figure that grades sequentially at the acceptance
+/// tier (PH94 Fig. 2, PH95 Figs. 6 and 8-10): [`PipeArgs`], `--fixed-runs`
+/// and `--sequential-max`.
 #[derive(Debug, Clone, clap::Parser)]
 pub struct SequentialArgs {
     /// `--tier`, `--seed`, `--runs`, `--out`, `--shard`, `--threads`, `--rules`, `--engine`.
     #[command(flatten)]
     pub pipe: PipeArgs,
-    /// Only at --tier acceptance: grade each claim at looks of 16, 32, 64, ...
-    /// runs up to four times the fixed count, with O'Brien-Fleming
-    /// boundaries, and stop once every claim is decided (analysis::sequential)
-    /// instead of running the fixed count.
-    #[arg(long)]
-    pub sequential: bool,
+    /// At --tier acceptance: run N runs (at every sweep point) and grade once,
+    /// 1..=100000, instead of the default sequential design (looks of 16,
+    /// 32, 64, ... runs up to the figure's fixed count, O'Brien-Fleming
+    /// boundaries, each claim stopping at its first decided look). Needed
+    /// with --shard. At the other tiers the same as --runs.
+    #[arg(long, value_parser = parse_runs, conflicts_with = "runs")]
+    pub fixed_runs: Option<usize>,
+    /// At --tier acceptance, sequential design only: its largest look as F
+    /// times the figure's fixed count, 1..=64 (default 1; 4 decides more
+    /// claims at about 1.5 times the fixed design's runs,
+    /// docs/sequential-design).
+    #[arg(long, value_parser = parse_factor, default_value_t = 1)]
+    pub sequential_max: usize,
+}
+
+/// Parse `--sequential-max`: a whole number in 1..=64.
+pub fn parse_factor(s: &str) -> crate::Result<usize> {
+    parse_count("--sequential-max", s, 1, 64)
 }
 
 impl SequentialArgs {
     /// Parse the command line of a figure whose `--help` starts with
-    /// `about` (exits with clap's message on bad input).
+    /// `about` (exits with clap's message on bad input). `--fixed-runs N`
+    /// is kept as the run count (`--runs N`).
     pub fn parse_about(about: &'static str) -> Self {
         use clap::{CommandFactory, FromArgMatches};
         let matches = Self::command().about(about).get_matches();
-        Self::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+        let mut args = Self::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+        if let Some(n) = args.fixed_runs {
+            args.pipe.common.runs = Some(n);
+        }
+        args
     }
 
-    /// Refuse `--sequential` where it cannot apply: below the acceptance
-    /// tier, with `--runs` (which fixes the count) or with `--shard` (a
-    /// look needs every run of the one before it).
-    pub fn check(&self) -> crate::Result<()> {
+    /// Whether the figure grades sequentially: at the acceptance tier,
+    /// unless a run count is fixed (`--fixed-runs` or `--runs`). Refuses
+    /// `--shard` with the sequential design (a look needs every run of the
+    /// one before it) and `--sequential-max` without it.
+    pub fn sequential(&self) -> crate::Result<bool> {
         let c = &self.pipe.common;
-        let bad = |why: &str| {
-            Err(crate::Error::new(
-                crate::ErrorKind::InvalidParameter,
-                format!("--sequential: {why}"),
-            ))
-        };
-        match () {
-            _ if !self.sequential => Ok(()),
-            _ if !c.tier.is_acceptance() => {
-                bad("only at --tier acceptance (the other tiers run a fixed count)")
-            }
-            _ if c.runs.is_some() => bad(
-                "the looks choose the runs; drop --runs (or drop --sequential for a fixed count)",
-            ),
-            _ if c.shard.is_some() => {
-                bad("each look needs every run before it in one process; drop --shard")
-            }
-            _ => Ok(()),
+        let fixed = c.runs.is_some() || self.fixed_runs.is_some();
+        let sequential = c.tier.is_acceptance() && !fixed;
+        let bad = |why: String| Err(crate::Error::new(crate::ErrorKind::InvalidParameter, why));
+        if sequential && c.shard.is_some() {
+            return bad("--shard at --tier acceptance: the default sequential design needs every run of one look before the next, in one process; give --fixed-runs N (the fixed count, 128 for most figures) to shard".into());
         }
+        if !sequential && self.sequential_max != 1 {
+            return bad(format!(
+                "--sequential-max {}: only for the sequential design, at --tier acceptance without --runs or --fixed-runs",
+                self.sequential_max
+            ));
+        }
+        Ok(sequential)
     }
 }
 

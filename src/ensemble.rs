@@ -230,6 +230,7 @@ pub struct Ensemble {
     shard: Option<Shard>,
     threads: usize,
     show_progress: bool,
+    note: String,
 }
 
 impl Ensemble {
@@ -292,12 +293,20 @@ impl Ensemble {
             shard,
             threads: all_threads(),
             show_progress: true,
+            note: String::new(),
         })
     }
 
     /// Use `n` worker threads (default: all cores). Results do not depend on it.
     pub fn threads(mut self, n: usize) -> Self {
         self.threads = n.max(1);
+        self
+    }
+
+    /// Words the progress bar shows before its run count (e.g. the claims
+    /// a sequential design still has open).
+    pub fn note(mut self, note: &str) -> Self {
+        self.note = note.to_string();
         self
     }
 
@@ -481,7 +490,16 @@ impl Ensemble {
         if !self.show_progress {
             pb.set_draw_target(indicatif::ProgressDrawTarget::hidden());
         }
-        pb.set_message(format!("{}/{} runs", mine.len() - todo.len(), mine.len()));
+        let note = if self.note.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", self.note)
+        };
+        pb.set_message(format!(
+            "{note}{}/{} runs",
+            mine.len() - todo.len(),
+            mine.len()
+        ));
         let done = AtomicUsize::new(mine.len() - todo.len());
         let next = AtomicUsize::new(0);
         let stop = AtomicBool::new(false);
@@ -511,7 +529,7 @@ impl Ensemble {
                     match res {
                         Ok(()) => {
                             let d = done.fetch_add(1, Ordering::SeqCst) + 1;
-                            pb.set_message(format!("{d}/{} runs", mine.len()));
+                            pb.set_message(format!("{note}{d}/{} runs", mine.len()));
                         }
                         Err(e) => {
                             stop.store(true, Ordering::SeqCst);

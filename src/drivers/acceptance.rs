@@ -351,30 +351,50 @@ pub fn sweep_runs(binary: &str) -> usize {
 }
 
 /// The chance of each kind of wrong verdict over all looks of the
-/// acceptance tier's sequential design (`--sequential`).
+/// acceptance tier's sequential design (its default, MODEL.md A10).
 pub const SEQUENTIAL_ALPHA: f64 = 0.025;
 
 /// The first look of the sequential design (runs).
 pub const FIRST_LOOK: usize = 16;
 
-/// The sequential design's largest look, in units of the fixed count.
-pub const MAX_FACTOR: usize = 4;
+/// The sequential design's largest look by default, in units of the fixed
+/// count (`--sequential-max`): chosen by the rule of
+/// docs/notebook/2026-12-07-sequential-default-plan.md, the cheapest design
+/// of the claims simulation that keeps the fixed design's verdicts.
+pub const MAX_FACTOR: usize = 1;
 
 /// The acceptance tier's sequential design for a claim whose fixed count is
-/// `fixed`: looks at [`FIRST_LOOK`], doubling, up to [`MAX_FACTOR`] x
-/// `fixed`, O'Brien-Fleming-type spending (its last boundary is the fixed
-/// rule's; docs/sequential-design).
-pub fn design(fixed: usize) -> crate::error::Result<Design> {
+/// `fixed`: looks at [`FIRST_LOOK`], doubling, up to `factor` x `fixed`
+/// (at least [`FIRST_LOOK`]), O'Brien-Fleming-type spending at
+/// [`SEQUENTIAL_ALPHA`] (its last boundary is close to the fixed rule's;
+/// docs/sequential-design).
+pub fn design(fixed: usize, factor: usize) -> crate::error::Result<Design> {
     Design::doubling(
         FIRST_LOOK,
-        (MAX_FACTOR * fixed).max(FIRST_LOOK),
+        factor.saturating_mul(fixed).max(FIRST_LOOK),
         SEQUENTIAL_ALPHA,
         Spending::OBrienFleming,
     )
 }
 
-/// Run the looks of `design` for `claims`: `at(n)` computes the runs up to
-/// `n` (resuming the earlier ones) and returns what they make (an
+/// What a progress bar shows during the look at `runs` runs of `design`:
+/// the look and the claims still open, e.g. `look 2 of 4, 1 of 2 claims
+/// open`.
+pub fn open_note(design: &Design, runs: usize, open: usize, claims: usize) -> String {
+    let j = design
+        .looks
+        .iter()
+        .position(|&n| n == runs)
+        .map_or(0, |j| j + 1);
+    format!(
+        "look {j} of {}, {open} of {claims} claims open",
+        design.looks.len()
+    )
+}
+
+/// Run the looks of `design` for `claims`: `at(n, open)` computes the runs
+/// up to `n` (resuming the earlier ones; `open` claims are still open) and
+/// returns what they make (an
 /// ensemble) with one estimate per claim, or `None` (stop: nothing more to
 /// do, e.g. a shard). Each claim stops at its first decided look or at the
 /// last; the looks stop when every claim has. Returns the last `at`'s
@@ -382,12 +402,13 @@ pub fn design(fixed: usize) -> crate::error::Result<Design> {
 pub fn run_looks<E>(
     design: &Design,
     claims: &[Claim],
-    mut at: impl FnMut(usize) -> crate::error::Result<Option<(E, Vec<Estimate>)>>,
+    mut at: impl FnMut(usize, usize) -> crate::error::Result<Option<(E, Vec<Estimate>)>>,
 ) -> crate::error::Result<Option<(E, Vec<Stop>)>> {
     let mut stops: Vec<Option<Stop>> = vec![None; claims.len()];
     let last = design.looks.len() - 1;
     for (j, &n) in design.looks.iter().enumerate() {
-        let Some((made, estimates)) = at(n)? else {
+        let open = stops.iter().filter(|s| s.is_none()).count();
+        let Some((made, estimates)) = at(n, open)? else {
             return Ok(None);
         };
         for (i, claim) in claims.iter().enumerate() {
@@ -472,8 +493,17 @@ mod tests {
 
     #[test]
     fn the_looks_stop_each_claim_at_its_first_decided_look() {
-        let d = design(32).unwrap();
+        let d = design(32, 4).unwrap();
         assert_eq!(d.looks, vec![16, 32, 64, 128]);
+        assert_eq!(
+            design(128, MAX_FACTOR).unwrap().looks,
+            vec![16, 32, 64, 128]
+        );
+        assert_eq!(
+            design(8, MAX_FACTOR).unwrap().looks,
+            vec![16],
+            "at least one look of 16"
+        );
         let within = |target| Claim::Within {
             target,
             margin: 0.1,
@@ -482,7 +512,7 @@ mod tests {
         // margin, the second on its edge, the third far outside
         let claims = [within(0.0), within(0.1), within(1.0)];
         let mut asked = Vec::new();
-        let (made, stops) = run_looks(&d, &claims, |n| {
+        let (made, stops) = run_looks(&d, &claims, |n, _| {
             asked.push(n);
             let e = Estimate::new(0.0, 0.1 / (n as f64).sqrt(), n);
             Ok(Some((n, vec![e; 3])))
@@ -506,7 +536,7 @@ mod tests {
         assert!(note.contains("undecided at the maximum"), "{note}");
         // once every claim is decided no further look is asked for
         let mut asked = 0;
-        run_looks(&d, &claims[..1], |n| {
+        run_looks(&d, &claims[..1], |n, _| {
             asked += 1;
             Ok(Some((
                 (),
@@ -516,9 +546,11 @@ mod tests {
         .unwrap();
         assert!(asked < d.looks.len());
         // a stop without a result (a shard) stops the looks
-        assert!(run_looks(&d, &claims, |_| Ok(None::<((), Vec<Estimate>)>))
-            .unwrap()
-            .is_none());
+        assert!(
+            run_looks(&d, &claims, |_, _| Ok(None::<((), Vec<Estimate>)>))
+                .unwrap()
+                .is_none()
+        );
     }
 
     #[test]

@@ -567,6 +567,49 @@ fn results_of(s: &serde_json::Value) -> BTreeMap<String, serde_json::Value> {
     out
 }
 
+/// The results of a sequentially graded summary (a check with a
+/// `sequential` field) that a committed summary `c` of the same base seed
+/// can show: the set-up's names, and each sequential check's value, SE,
+/// claim, kind and runs where `c` has that check over the same runs. The
+/// runs of a look are the first runs of the fixed design, so a check that
+/// ran as many runs as the committed one is computed from the same runs;
+/// its verdict is left out (the design's boundary at that look is not the
+/// fixed rule's), as are metrics and checks without a design (computed
+/// from points that may have stopped at other looks).
+fn sequential_results_of(
+    s: &serde_json::Value,
+    c: &serde_json::Value,
+) -> BTreeMap<String, serde_json::Value> {
+    let mut out = BTreeMap::new();
+    for k in ["figure", "tier", "rules", "engine"] {
+        out.insert(k.to_string(), s[k].clone());
+    }
+    let committed = c["checks"].as_array().cloned().unwrap_or_default();
+    for check in s["checks"].as_array().into_iter().flatten() {
+        let name = check["name"].as_str().unwrap_or("?");
+        let same_runs = committed
+            .iter()
+            .any(|x| x["name"] == check["name"] && x["runs"] == check["runs"]);
+        if check["sequential"].is_null() || !same_runs {
+            continue;
+        }
+        for k in ["measured", "error", "claim", "runs", "kind"] {
+            out.insert(format!("check {name}: {k}"), check[k].clone());
+        }
+    }
+    out
+}
+
+/// Whether summary `s` was graded by a sequential design (some check has a
+/// `sequential` field).
+pub fn is_sequential(s: &serde_json::Value) -> bool {
+    s["checks"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .any(|c| !c["sequential"].is_null())
+}
+
 /// Whether `summary` (a figure's summary.json, as read) is one of the
 /// committed seed sets of `figure` in `from` ([`seed_summaries`]): the
 /// committed seed set with the same `seeds` and tier, compared result by
@@ -575,6 +618,11 @@ fn results_of(s: &serde_json::Value) -> BTreeMap<String, serde_json::Value> {
 /// seeds). A recomputed seed set identical to its committed twin shows
 /// that the code at hand computes what the committed seed sets hold, so
 /// grading over them grades this code.
+///
+/// A summary graded sequentially ([`is_sequential`]) ran the first runs of
+/// the committed seed set's: its seeds are theirs or the first of theirs,
+/// and it is compared by runs, on the checks that ran as many runs as the
+/// committed ones ([`sequential_results_of`]).
 ///
 /// Errors: as [`stability`].
 pub fn committed_twin(
@@ -588,10 +636,25 @@ pub fn committed_twin(
             .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", path.display())))?;
         let c: serde_json::Value = serde_json::from_str(&text)
             .map_err(|e| Error::new(ErrorKind::BadSeries, format!("{}: {e}", path.display())))?;
-        if c["seeds"] != summary["seeds"] || c["tier"] != summary["tier"] {
+        let sequential = is_sequential(summary);
+        let first_of =
+            |a: &serde_json::Value, b: &serde_json::Value| match (a.as_array(), b.as_array()) {
+                (Some(a), Some(b)) => !a.is_empty() && a.len() <= b.len() && b[..a.len()] == a[..],
+                _ => false,
+            };
+        let same_seeds = if sequential {
+            first_of(&summary["seeds"], &c["seeds"]) || first_of(&c["seeds"], &summary["seeds"])
+        } else {
+            c["seeds"] == summary["seeds"]
+        };
+        if !same_seeds || c["tier"] != summary["tier"] {
             continue;
         }
-        let (mine, theirs) = (results_of(summary), results_of(&c));
+        let (mine, theirs) = if sequential {
+            (sequential_results_of(summary, &c), results_of(&c))
+        } else {
+            (results_of(summary), results_of(&c))
+        };
         let shared = theirs.keys().filter(|k| mine.contains_key(*k));
         let checks = shared.clone().filter(|k| k.starts_with("check ")).count();
         let what = shared
@@ -1159,5 +1222,63 @@ mod tests {
         let near = runs_to_decide(0.06, 0.05, 0.1).unwrap();
         assert!(near > far * 100.0);
         assert!(runs_to_decide(0.05, 0.05, 0.1).is_none());
+    }
+
+    /// A sequentially graded summary is its committed seed set's twin when
+    /// the checks that ran the committed runs have the committed values;
+    /// a check that stopped earlier, metrics and the verdict are not
+    /// compared; a changed value at the same runs is found.
+    #[test]
+    fn a_sequential_summary_is_compared_with_its_twin_by_runs() {
+        let dir = std::env::temp_dir().join(format!("ga-twin-{}", std::process::id()));
+        let d = dir.join("seed-1").join("fig2");
+        std::fs::create_dir_all(&d).unwrap();
+        let check = |name: &str, x: f64, runs: usize, verdict: &str| {
+            serde_json::json!({"name": name, "kind": "published", "measured": x, "error": 0.01,
+                "runs": runs, "verdict": verdict, "claim": {"test": "within", "target": 1.0, "margin": 0.1}})
+        };
+        let committed = serde_json::json!({"figure": "fig2", "tier": "acceptance",
+            "seeds": [11, 12, 13, 14], "metrics": {"alpha": 1.0},
+            "checks": [check("alpha", 1.25, 4, "not-reproduced"), check("v", 0.4, 4, "reproduced")]});
+        std::fs::write(d.join("summary.json"), committed.to_string()).unwrap();
+        let seq = |alpha: f64, seeds: serde_json::Value| {
+            let mut a = check("alpha", alpha, 4, "undecided");
+            a["sequential"] = serde_json::json!({"look": 2, "runs": 4});
+            let mut v = check("v", 0.41, 2, "reproduced");
+            v["sequential"] = serde_json::json!({"look": 1, "runs": 2});
+            serde_json::json!({"figure": "fig2", "tier": "acceptance", "seeds": seeds,
+                "metrics": {"alpha": 2.0}, "checks": [a, v]})
+        };
+        let same = committed_twin(
+            &dir,
+            "fig2",
+            &seq(1.25, serde_json::json!([11, 12, 13, 14])),
+        );
+        assert!(matches!(same, Ok(Twin::Identical { .. })), "{same:?}");
+        let other = committed_twin(
+            &dir,
+            "fig2",
+            &seq(1.26, serde_json::json!([11, 12, 13, 14])),
+        );
+        assert!(
+            matches!(&other, Ok(Twin::Differs { what, .. }) if what.contains("alpha: measured")),
+            "{other:?}"
+        );
+        // the first runs of the committed ones, but no check ran as many
+        let mut early = seq(1.25, serde_json::json!([11, 12]));
+        early["checks"][0]["runs"] = 2.into();
+        let early = committed_twin(&dir, "fig2", &early);
+        assert!(
+            matches!(&early, Ok(Twin::Differs { what, .. }) if what.contains("no check in common")),
+            "{early:?}"
+        );
+        // other seeds: not among them
+        let none = committed_twin(
+            &dir,
+            "fig2",
+            &seq(1.25, serde_json::json!([21, 22, 23, 24])),
+        );
+        assert_eq!(none.unwrap(), Twin::NotAmong);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

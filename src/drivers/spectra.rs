@@ -222,9 +222,22 @@ pub fn resumable_ensemble(
     setup: &SpectrumSetup,
     runs: usize,
 ) -> Result<Option<SpectrumEnsemble>> {
+    noted_ensemble(common, binary, name, setup, runs, "")
+}
+
+/// [`resumable_ensemble`] whose progress bar shows `note` before its run
+/// count (a sequential design's open claims).
+pub fn noted_ensemble(
+    common: &crate::cli::Common,
+    binary: &str,
+    name: &str,
+    setup: &SpectrumSetup,
+    runs: usize,
+    note: &str,
+) -> Result<Option<SpectrumEnsemble>> {
     use crate::ensemble::Outcome;
     let key = serde_json::json!({"set-up": name, "spectrum": setup});
-    let ens = common.ensemble(binary, &key, runs)?;
+    let ens = common.ensemble(binary, &key, runs)?.note(note);
     match ens.run(setup.steps(), |_, seed, tick| {
         bin_spectrum(setup, seed, tick)
     })? {
@@ -536,10 +549,10 @@ impl SpectrumFigure<'_> {
     /// [`run_figure`] with the reading, engine and design of the command
     /// line `args`.
     pub fn run(&self, args: &crate::cli::SequentialArgs) -> Result<Option<crate::run::Summary>> {
-        args.check()?;
+        let factor = args.sequential()?.then_some(args.sequential_max);
         let rules = args.pipe.rules.parse()?;
         let engine = args.pipe.rules.engine(args.pipe.common.tier)?;
-        run_figure(self, &args.pipe.common, rules, engine, args.sequential)
+        run_figure(self, &args.pipe.common, rules, engine, factor)
     }
 }
 
@@ -547,14 +560,15 @@ impl SpectrumFigure<'_> {
 /// (resumable and shardable, see [`resumable_ensemble`]; `None` after a
 /// shard), write `spectrum.csv`, `runs.csv`, the PNG and `summary.json` (metrics
 /// `alpha`, `alpha_err`, `j_peak`, `v_peak`), and print the checks. With
-/// `sequential` (acceptance tier only) the runs grow look by look until
-/// every acceptance claim is decided ([`super::acceptance::run_looks`]).
+/// `sequential = Some(factor)` (acceptance tier only) the runs grow look by
+/// look, up to `factor` times the fixed count, until every acceptance claim
+/// is decided ([`super::acceptance::run_looks`]).
 pub fn run_figure(
     fig: &SpectrumFigure,
     common: &crate::cli::Common,
     rules: Rules,
     engine: Engine,
-    sequential: bool,
+    sequential: Option<usize>,
 ) -> Result<Option<crate::run::Summary>> {
     use crate::analysis::mean_spectrum::{alpha_of_mean, v_of_mean};
     use crate::run::{run_seeds, Check, Output, Summary};
@@ -574,16 +588,16 @@ pub fn run_figure(
         _ => alpha_of_mean(&ens.spectra()),
     };
     let start = std::time::Instant::now();
-    let design = if sequential {
-        Some(super::acceptance::design(fixed)?)
-    } else {
-        None
+    let design = match sequential {
+        Some(factor) => Some(super::acceptance::design(fixed, factor)?),
+        None => None,
     };
     let (ens, stops) = match &design {
         Some(d) => {
             let claims: Vec<Claim> = graded.iter().map(|m| m.claim()).collect();
-            let looks = super::acceptance::run_looks(d, &claims, |n| {
-                let Some(ens) = resumable_ensemble(common, fig.binary, "spectrum", &setup, n)?
+            let looks = super::acceptance::run_looks(d, &claims, |n, open| {
+                let note = super::acceptance::open_note(d, n, open, claims.len());
+                let Some(ens) = noted_ensemble(common, fig.binary, "spectrum", &setup, n, &note)?
                 else {
                     return Ok(None);
                 };

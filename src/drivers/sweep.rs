@@ -270,9 +270,22 @@ pub fn sweep_point(
     runs: usize,
     setup: &SpectrumSetup,
 ) -> Result<Option<PointResult>> {
+    noted_point(common, binary, point, runs, setup, "")
+}
+
+/// [`sweep_point`] whose progress bar shows `note` before its run count (a
+/// sequential design's look and open claims).
+pub fn noted_point(
+    common: &crate::cli::Common,
+    binary: &str,
+    point: &SweepPoint,
+    runs: usize,
+    setup: &SpectrumSetup,
+    note: &str,
+) -> Result<Option<PointResult>> {
     use crate::ensemble::Outcome;
     let key = serde_json::json!({"sweep-point": point.label, "spectrum": setup});
-    let ens = common.ensemble(binary, &key, runs)?;
+    let ens = common.ensemble(binary, &key, runs)?.note(note);
     match ens.run(setup.steps(), |_, seed, tick| sweep_run(setup, seed, tick))? {
         Outcome::Complete(v) => reduce(point, setup, v, Estimator::of_tier(common.tier)).map(Some),
         Outcome::ShardDone { shard, runs, dir } => {
@@ -299,7 +312,7 @@ pub fn sweep_point(
 pub fn sweep_looks(
     design: &crate::analysis::sequential::Design,
     points: &[SweepPoint],
-    mut run_point: impl FnMut(&SweepPoint, usize) -> Result<Option<PointResult>>,
+    mut run_point: impl FnMut(&SweepPoint, usize, &str) -> Result<Option<PointResult>>,
     checks_of: impl Fn(&[PointResult]) -> Vec<crate::run::Check>,
 ) -> Result<Option<(Vec<PointResult>, Vec<crate::run::Check>)>> {
     use crate::analysis::grading::{Estimate, Verdict};
@@ -307,11 +320,23 @@ pub fn sweep_looks(
     let mut results: Vec<Option<PointResult>> = vec![None; points.len()];
     let mut open = vec![true; points.len()];
     let mut frozen: Vec<crate::run::Check> = Vec::new();
+    // claims still open and in all (unknown before the first look)
+    let mut claims: Option<(usize, usize)> = None;
     let last = design.looks.len() - 1;
     for (j, &n) in design.looks.iter().enumerate() {
+        let points_open = open.iter().filter(|&&o| o).count();
+        let note = format!(
+            "look {} of {}, {points_open} of {} points, {} open",
+            j + 1,
+            design.looks.len(),
+            points.len(),
+            claims.map_or("all claims".to_string(), |(o, a)| format!(
+                "{o} of {a} claims"
+            ))
+        );
         for (k, point) in points.iter().enumerate() {
             if open[k] {
-                let Some(r) = run_point(point, n)? else {
+                let Some(r) = run_point(point, n, &format!("{note}, {}", point.label))? else {
                     return Ok(None);
                 };
                 results[k] = Some(r);
@@ -342,6 +367,7 @@ pub fn sweep_looks(
             c.note.push_str(&format!("; {note}"));
             frozen.push(c);
         }
+        claims = Some((still_open.len(), still_open.len() + frozen.len()));
         for (k, point) in points.iter().enumerate() {
             open[k] = still_open
                 .iter()
@@ -882,10 +908,11 @@ impl<'a> SweepFigure<'a> {
     }
 
     /// [`SweepFigure::run`] with the figure's checks: `checks_of` computes
-    /// them from the points' results. With `--sequential` the points run
-    /// look by look until their checks are decided ([`sweep_looks`], the
-    /// acceptance tier's design for the figure's fixed count); otherwise
-    /// every point runs the fixed count and the checks are computed once.
+    /// them from the points' results. At the acceptance tier, unless a count
+    /// is fixed, the points run look by look until their checks are decided
+    /// ([`sweep_looks`], the acceptance tier's design for the figure's fixed
+    /// count); otherwise every point runs the fixed count and the checks are
+    /// computed once.
     pub fn run_graded(
         binary: &'static str,
         paper: &'static str,
@@ -893,26 +920,24 @@ impl<'a> SweepFigure<'a> {
         points: Vec<SweepPoint>,
         checks_of: impl Fn(&[PointResult]) -> Vec<crate::run::Check>,
     ) -> Result<Option<(Self, Vec<crate::run::Check>)>> {
-        if !args.sequential {
+        let sequential = args.sequential()?;
+        if !sequential {
             let Some(fig) = SweepFigure::run(binary, paper, &args.pipe, points)? else {
                 return Ok(None);
             };
             let checks = checks_of(&fig.results);
             return Ok(Some((fig, checks)));
         }
-        args.check()?;
         let (figure, rules, engine, c) = args.pipe.rules.start(&args.pipe.common, binary, paper)?;
-        let design = super::acceptance::design(super::acceptance::sweep_runs(binary))?;
+        let design =
+            super::acceptance::design(super::acceptance::sweep_runs(binary), args.sequential_max)?;
         let setup_of = |p| super::spectra::tier_setup(c.tier, p, rules, engine);
-        let mut k = 0;
         let looks = sweep_looks(
             &design,
             &points,
-            |point, n| {
-                k += 1;
+            |point, n, note| {
                 let setup = setup_of(point.params);
-                eprintln!("{binary}: look {k}: point {} up to {n} runs", point.label);
-                sweep_point(c, binary, point, n, &setup)
+                noted_point(c, binary, point, n, &setup, note)
             },
             &checks_of,
         )?;
@@ -1149,7 +1174,7 @@ mod tests {
         let (results, checks) = sweep_looks(
             &design,
             &points,
-            |p, n| {
+            |p, n, _| {
                 asked.push((p.label.clone(), n));
                 Ok(Some(PointResult {
                     point: p.clone(),
