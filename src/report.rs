@@ -903,7 +903,7 @@ pub fn run(opts: &Options) -> Result<Report> {
         let (matched, said) = attach_seed_sets(&mut report, &opts.out, dir);
         if !matched.is_empty() {
             report.preface.push(format!(
-                "Graded over committed seed sets ({}) where this run's own seed set equals its committed twin in every check and metric they share (a cut of a figure has fewer), so the code at hand computes what they hold: {}.",
+                "Graded over committed seed sets ({}) where this run's own seed set equals its committed twin in every check and metric they share (a cut of a figure has fewer; a figure graded sequentially is compared by runs, on the checks that ran as many runs as the committed ones), so the code at hand computes what they hold: {}.",
                 dir.display(),
                 matched.join(", ")
             ));

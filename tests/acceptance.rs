@@ -6,8 +6,11 @@
 //! seed 1 in EXPERIMENTS.md "Acceptance at the published set-ups" (with the
 //! stability of each verdict over 20 base seeds). A change to the model, an
 //! engine or the analysis that flips a verdict, or moves a value, fails here.
-//! Each test also checks that its run is, result for result, the committed
-//! seed set 1 of docs/acceptance, and asserts the verdicts over all 20
+//! The pipe figures run the tier's default sequential design
+//! (`drivers::acceptance::design`). Each test also checks that its run is,
+//! result for result (a sequential run: on the checks that ran as many
+//! runs), the committed seed set 1 of docs/acceptance, and asserts the
+//! verdicts over all 20
 //! committed seed sets (what `report --seed-sets docs/acceptance` prints):
 //! a change that alters a result also shows that the committed seed sets
 //! need refiling.
@@ -82,6 +85,31 @@ fn assert_value(s: &serde_json::Value, name: &str, value: f64, error: f64) {
     );
 }
 
+/// Figure `$bin` again with the fixed design (`--fixed-runs $runs`) into
+/// the folder of its acceptance run above, whose saved runs it resumes: its
+/// summary.
+macro_rules! fixed_rerun {
+    ($bin:literal, $runs:literal) => {{
+        let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+            .join(concat!($bin, "-acceptance"));
+        let status = std::process::Command::new(env!(concat!("CARGO_BIN_EXE_", $bin)))
+            .args(["--tier", "acceptance", "--fixed-runs", $runs, "--out"])
+            .arg(&out)
+            .status()
+            .expect("the binary runs");
+        assert!(status.success(), "{} --fixed-runs failed", $bin);
+        let text = std::fs::read_to_string(out.join($bin).join("summary.json")).unwrap();
+        let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+        s
+    }};
+}
+
+/// Where check `name` stopped under the sequential design: (look, runs).
+fn stopped(s: &serde_json::Value, name: &str) -> (u64, u64) {
+    let q = &common::check(s, name)["sequential"];
+    (q["look"].as_u64().unwrap(), q["runs"].as_u64().unwrap())
+}
+
 #[test]
 fn ph94_fig2_at_the_published_set_up_alpha_undecided_v_reproduced() {
     let s = at_published_set_up!(
@@ -91,19 +119,39 @@ fn ph94_fig2_at_the_published_set_up_alpha_undecided_v_reproduced() {
         "fast",
         128
     );
-    // alpha = 1.33 +- 0.059: undecided at 19 of 20 base seeds (seed 19: not
-    // reproduced by 0.001); all 2560 runs decide it not reproduced, and
-    // ~3400 runs per seed set would give a stable verdict
+    // the default sequential design (looks 16, 32, 64, 128, O'Brien-Fleming):
+    // alpha = 1.33 +- 0.059 runs to the last look, undecided at 19 of 20
+    // base seeds with the fixed count (seed 19: not reproduced by 0.001);
+    // all 2560 runs decide it not reproduced, and ~3400 runs per seed set
+    // would give a stable verdict
     assert_eq!(verdict(&s, "alpha"), "undecided");
+    assert_eq!(stopped(&s, "alpha"), (4, 128));
     assert_value(&s, "alpha", ALPHA_SEED1.0, ALPHA_SEED1.1);
-    // v = 0.40 +- 0.007: see EXPERIMENTS for its stability over seeds
+    // v = 0.40 +- 0.007 is decided at the third look, 64 runs (k = 3.08)
     assert_eq!(verdict(&s, "v_peak"), "reproduced");
-    assert_value(&s, "v_peak", V_SEED1.0, V_SEED1.1);
-    // over the 20 committed seed sets (2560 runs): alpha 1.2634 +- 0.0026
-    // not reproduced, v 0.3949 +- 0.0001 reproduced
+    assert_eq!(stopped(&s, "v_peak"), (3, 64));
+    assert_value(&s, "v_peak", V_SEED1_64.0, V_SEED1_64.1);
+    // over the 20 committed seed sets (2560 runs, the fixed design): alpha
+    // 1.2634 +- 0.0026 not reproduced, v 0.3949 +- 0.0001 reproduced; the
+    // twin is compared by runs (alpha's 128)
     let over = over_seed_sets(&s);
     assert_eq!(over["alpha"], "not-reproduced");
     assert_eq!(over["v_peak"], "reproduced");
+    // the fixed design resumes the same 128 runs and grades v over all
+    let f = fixed_rerun!("fig2", "128");
+    assert!(common::check(&f, "v_peak")["sequential"].is_null());
+    assert_eq!(verdict(&f, "v_peak"), "reproduced");
+    assert_value(&f, "v_peak", V_SEED1.0, V_SEED1.1);
+    assert_value(&f, "alpha", ALPHA_SEED1.0, ALPHA_SEED1.1);
+    assert!(matches!(
+        committed_twin(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/acceptance/fig2"),
+            "fig2",
+            &f
+        )
+        .unwrap(),
+        Twin::Identical { .. }
+    ));
 }
 
 #[test]
@@ -115,9 +163,11 @@ fn ph95_fig6_at_the_published_set_up_alpha_undecided() {
         "fast",
         128
     );
-    // alpha = 1.33 +- 0.026: undecided at 14 of 20 base seeds (6 not
-    // reproduced); all 2560 runs decide it not reproduced (1.2945 +- 0.0014)
+    // alpha = 1.33 +- 0.026: runs to the design's last look; undecided at 14
+    // of 20 base seeds (6 not reproduced); all 2560 runs decide it not
+    // reproduced (1.2945 +- 0.0014)
     assert_eq!(verdict(&s, "alpha"), "undecided");
+    assert_eq!(stopped(&s, "alpha"), (4, 128));
     assert_value(&s, "alpha", FIG6_ALPHA_SEED1.0, FIG6_ALPHA_SEED1.1);
     assert_eq!(over_seed_sets(&s)["alpha"], "not-reproduced");
 }
@@ -130,8 +180,11 @@ const FIG6_ALPHA_SEED1: (f64, f64) = (1.2991502192576334, 0.007068415082855593);
 /// alpha and its bootstrap SE of `fig2 --tier acceptance --seed 1` (the
 /// SE was the jackknife's 0.01078 until 2026-12-05).
 const ALPHA_SEED1: (f64, f64) = (1.2562365452968807, 0.010848018237458627);
-/// v and its bootstrap SE of `fig2 --tier acceptance --seed 1`.
+/// v and its bootstrap SE of `fig2 --tier acceptance --seed 1 --fixed-runs 128`.
 const V_SEED1: (f64, f64) = (0.39544677734375, 0.0006265051476578973);
+/// v and its bootstrap SE over the first 64 runs, where the sequential
+/// design stops it.
+const V_SEED1_64: (f64, f64) = (0.394775390625, 0.0005742309637889227);
 
 #[test]
 fn ph95_fig7_at_the_published_set_up_not_white_with_the_line_at_one_half() {

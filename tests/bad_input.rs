@@ -571,18 +571,36 @@ fn usage_errors_exit_2_and_help_exits_0_everywhere() {
             &["walk"][..],
             "usage",
         ),
-        // the sequential design only at the acceptance tier, without a
-        // fixed count or a shard
-        (fig2, &["--sequential"][..], "only at --tier acceptance"),
-        (
-            fig2,
-            &["--sequential", "--tier", "acceptance", "--runs", "64"][..],
-            "drop --runs",
-        ),
+        // the sequential design (the acceptance tier's default) cannot
+        // shard; its options need it, and a count is fixed one way only
         (
             env!("CARGO_BIN_EXE_waves-fig6"),
-            &["--sequential", "--tier", "acceptance", "--shard", "0/2"][..],
-            "drop --shard",
+            &["--tier", "acceptance", "--shard", "0/2"][..],
+            "give --fixed-runs N",
+        ),
+        (
+            fig2,
+            &["--sequential-max", "4"][..],
+            "only for the sequential design",
+        ),
+        (
+            fig2,
+            &[
+                "--tier",
+                "acceptance",
+                "--fixed-runs",
+                "64",
+                "--sequential-max",
+                "4",
+            ][..],
+            "only for the sequential design",
+        ),
+        (fig2, &["--sequential-max", "0"][..], "1..=64"),
+        (fig2, &["--fixed-runs", "0"][..], "1..=100000"),
+        (
+            fig2,
+            &["--fixed-runs", "64", "--runs", "64"][..],
+            "cannot be used with",
         ),
     ] {
         assert_eq!(refused(exe, args, &[want]), 2, "{exe} {args:?}");
