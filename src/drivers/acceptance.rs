@@ -553,6 +553,22 @@ mod tests {
         );
     }
 
+    /// The committed seed sets hold the fixed design: run-seeds.sh gives
+    /// the figures that grade sequentially their fixed count.
+    #[test]
+    fn the_seed_set_script_runs_each_sequential_figure_at_its_fixed_count() {
+        let script = include_str!("../../docs/acceptance/run-seeds.sh");
+        assert!(script.contains(
+            "fig2|waves-fig6|waves-fig8|waves-fig9|waves-fig10) extra=(--fixed-runs 128"
+        ));
+        for f in ["waves-fig8", "waves-fig9", "waves-fig10"] {
+            assert_eq!(sweep_runs(f), 128, "{f}");
+        }
+        for f in ["fig2", "waves-fig6"] {
+            assert_eq!(margin(f, "alpha").unwrap().runs, 128, "{f}");
+        }
+    }
+
     #[test]
     fn an_undecided_claim_says_how_many_runs_would_decide_it() {
         let claim = Claim::Within {
