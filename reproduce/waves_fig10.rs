@@ -73,8 +73,9 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     fig.write_csv("waves-fig10b.csv", &xb, &vb)?;
 
     let title = format!(
-        "PH95 Fig. 10: L = 220, rho = 1, p = 0.5, {} runs/point, rules {}",
-        fig.runs, fig.rules
+        "PH95 Fig. 10: L = 220, rho = 1, p = 0.5, {}, rules {}",
+        fig.runs_per_point(),
+        fig.rules
     );
     let b_label = "wall roughness b (bounce-back probability)";
     let g_low = format!("g = {G_LOW}");

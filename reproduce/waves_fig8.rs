@@ -77,8 +77,9 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         &fig.out,
         "waves-fig8",
         &format!(
-            "PH95 Fig. 8: L = 220, rho = 1, b = g = 0.5, {} runs/point, rules {}",
-            fig.runs, fig.rules
+            "PH95 Fig. 8: L = 220, rho = 1, b = g = 0.5, {}, rules {}",
+            fig.runs_per_point(),
+            fig.rules
         ),
         "dissipation p",
         &[Curve {

@@ -85,13 +85,15 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     let Some((fig, checks)) = fig else {
         return Ok(());
     };
-    let (res, runs) = (&fig.results, fig.runs);
+    let res = &fig.results;
 
     let all = fig.all();
     fig.write_csv("waves-fig9.csv", &["rho"], &all)?;
     let title = format!(
-        "PH95 Fig. 9: L = {}, p = b = g = 0.5, {runs} runs/point, rules {}",
-        base.length, fig.rules
+        "PH95 Fig. 9: L = {}, p = b = g = 0.5, {}, rules {}",
+        base.length,
+        fig.runs_per_point(),
+        fig.rules
     );
     let xlabel = "mean density rho (particles per site)";
     let mut metrics = fig.metrics();

@@ -970,6 +970,19 @@ impl<'a> SweepFigure<'a> {
         super::spectra::tier_setup(self.args.common.tier, params, self.rules, self.engine)
     }
 
+    /// The runs per point for a chart title: `128 runs/point`, or
+    /// `16-128 runs/point (sequential)` where points stopped at different
+    /// looks.
+    pub fn runs_per_point(&self) -> String {
+        let runs = self.results.iter().map(|r| r.valid + r.invalid);
+        let (lo, hi) = (runs.clone().min().unwrap_or(0), runs.max().unwrap_or(0));
+        if lo == hi {
+            format!("{hi} runs/point")
+        } else {
+            format!("{lo}-{hi} runs/point (sequential)")
+        }
+    }
+
     /// Every result, in point order.
     pub fn all(&self) -> Vec<&PointResult> {
         self.results.iter().collect()
