@@ -197,7 +197,7 @@ pub struct Check {
     /// to summary.json.
     #[serde(skip)]
     pub drawn: Option<Drawn>,
-    /// Where a sequentially graded check stopped (`--sequential`); absent
+    /// Where a sequentially graded check stopped (the acceptance tier's default design); absent
     /// for a fixed count.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sequential: Option<Sequential>,
