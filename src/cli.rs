@@ -125,8 +125,11 @@ pub struct Common {
     /// Base seed; run i of an ensemble uses derive_seed(seed, i).
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
-    /// Number of independent runs to average, 1..=100000 (default: set by the tier).
-    #[arg(long, value_parser = parse_runs, allow_negative_numbers = true)]
+    /// Number of independent runs to average, 1..=100000 (default: set by the
+    /// tier). `--fixed-runs` is the same option: at --tier acceptance it
+    /// replaces the sequential design of PH94 Fig. 2 and PH95 Figs. 6 and
+    /// 8-10 by this fixed count (per sweep point), which sharding needs.
+    #[arg(long, visible_alias = "fixed-runs", value_parser = parse_runs, allow_negative_numbers = true)]
     pub runs: Option<usize>,
     /// Output folder; the figure writes into `OUT/<binary>/`.
     #[arg(long, default_value = "results")]
@@ -177,20 +180,14 @@ impl PipeArgs {
 }
 
 /// The options of a pipe figure that grades sequentially at the acceptance
-/// tier (PH94 Fig. 2, PH95 Figs. 6 and 8-10): [`PipeArgs`], `--fixed-runs`
-/// and `--sequential-max`.
+/// tier (PH94 Fig. 2, PH95 Figs. 6 and 8-10): [`PipeArgs`] and
+/// `--sequential-max` (`--fixed-runs`, an alias of `--runs`, keeps the
+/// fixed design).
 #[derive(Debug, Clone, clap::Parser)]
 pub struct SequentialArgs {
     /// `--tier`, `--seed`, `--runs`, `--out`, `--shard`, `--threads`, `--rules`, `--engine`.
     #[command(flatten)]
     pub pipe: PipeArgs,
-    /// At --tier acceptance: run N runs (at every sweep point) and grade once,
-    /// 1..=100000, instead of the default sequential design (looks of 16,
-    /// 32, 64, ... runs up to the figure's fixed count, O'Brien-Fleming
-    /// boundaries, each claim stopping at its first decided look). Needed
-    /// with --shard. At the other tiers the same as --runs.
-    #[arg(long, value_parser = parse_runs, conflicts_with = "runs")]
-    pub fixed_runs: Option<usize>,
     /// At --tier acceptance, sequential design only: its largest look as F
     /// times the figure's fixed count, 1..=64 (default 1; 4 decides more
     /// claims at about 1.5 times the fixed design's runs,
@@ -206,26 +203,20 @@ pub fn parse_factor(s: &str) -> crate::Result<usize> {
 
 impl SequentialArgs {
     /// Parse the command line of a figure whose `--help` starts with
-    /// `about` (exits with clap's message on bad input). `--fixed-runs N`
-    /// is kept as the run count (`--runs N`).
+    /// `about` (exits with clap's message on bad input).
     pub fn parse_about(about: &'static str) -> Self {
         use clap::{CommandFactory, FromArgMatches};
         let matches = Self::command().about(about).get_matches();
-        let mut args = Self::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
-        if let Some(n) = args.fixed_runs {
-            args.pipe.common.runs = Some(n);
-        }
-        args
+        Self::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
     }
 
     /// Whether the figure grades sequentially: at the acceptance tier,
-    /// unless a run count is fixed (`--fixed-runs` or `--runs`). Refuses
+    /// unless a run count is fixed (`--fixed-runs`, or `--runs`). Refuses
     /// `--shard` with the sequential design (a look needs every run of the
     /// one before it) and `--sequential-max` without it.
     pub fn sequential(&self) -> crate::Result<bool> {
         let c = &self.pipe.common;
-        let fixed = c.runs.is_some() || self.fixed_runs.is_some();
-        let sequential = c.tier.is_acceptance() && !fixed;
+        let sequential = c.tier.is_acceptance() && c.runs.is_none();
         let bad = |why: String| Err(crate::Error::new(crate::ErrorKind::InvalidParameter, why));
         if sequential && c.shard.is_some() {
             return bad("--shard at --tier acceptance: the default sequential design needs every run of one look before the next, in one process; give --fixed-runs N (the fixed count, 128 for most figures) to shard".into());

@@ -600,7 +600,7 @@ fn usage_errors_exit_2_and_help_exits_0_everywhere() {
         (
             fig2,
             &["--fixed-runs", "64", "--runs", "64"][..],
-            "cannot be used with",
+            "cannot be used multiple times",
         ),
     ] {
         assert_eq!(refused(exe, args, &[want]), 2, "{exe} {args:?}");

@@ -292,3 +292,23 @@ fn fig12_a_censored_critical_rate_decides_nothing_it_cannot() {
     let ones = csv.lines().filter(|l| l.starts_with("1,")).count();
     assert_eq!(ones, 1, "the rate 1 is run once:\n{csv}");
 }
+
+/// `--fixed-runs N` is `--runs N` (an alias) in every figure, also where a
+/// figure flattens the sequential options into a parser of its own
+/// (waves-fig9): at --tier acceptance it keeps the fixed design, and it
+/// fixes the runs per point here.
+#[test]
+fn fixed_runs_fixes_the_runs_per_point() {
+    let exe = env!("CARGO_BIN_EXE_waves-fig9");
+    let s = common::run_figure(
+        "waves-fig9",
+        exe,
+        &args(&["--fixed-runs", "2", "--rho", "0.4"]),
+        "fixed-runs",
+        &["waves-fig9.csv"],
+    );
+    assert_eq!(s["seeds"].as_array().expect("seeds").len(), 2);
+    let c = common::check(&s, "alpha_zero_rho0.4");
+    assert_eq!(c["runs"], 2);
+    assert!(c["sequential"].is_null());
+}
