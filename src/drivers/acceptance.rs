@@ -351,7 +351,7 @@ pub fn sweep_runs(binary: &str) -> usize {
 }
 
 /// The chance of each kind of wrong verdict over all looks of the
-/// acceptance tier's sequential design (its default, MODEL.md A10).
+/// acceptance tier's sequential design (its default; docs/reference/grading.md).
 pub const SEQUENTIAL_ALPHA: f64 = 0.025;
 
 /// The first look of the sequential design (runs).
