@@ -553,6 +553,24 @@ mod tests {
         );
     }
 
+    /// The command line's default `--sequential-max` is the design's
+    /// [`MAX_FACTOR`], and the acceptance tier grades sequentially unless a
+    /// count is fixed.
+    #[test]
+    fn the_command_line_default_is_the_chosen_design() {
+        use clap::Parser;
+        let parse = |a: &[&str]| crate::cli::SequentialArgs::try_parse_from(a).unwrap();
+        let quick = parse(&["fig2"]);
+        assert_eq!(quick.sequential_max, MAX_FACTOR);
+        assert!(!quick.sequential().unwrap());
+        assert!(parse(&["fig2", "--tier", "acceptance"])
+            .sequential()
+            .unwrap());
+        let fixed = parse(&["fig2", "--tier", "acceptance", "--fixed-runs", "64"]);
+        assert!(!fixed.sequential().unwrap());
+        assert_eq!(fixed.pipe.common.runs, Some(64));
+    }
+
     /// The committed seed sets hold the fixed design: run-seeds.sh gives
     /// the figures that grade sequentially their fixed count.
     #[test]
