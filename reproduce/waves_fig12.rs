@@ -6,7 +6,10 @@
 //! L = 220, W = 11 (as Figs. 2-10); I_c is also measured for other W and L.
 //! Each bisection rate stops at its first clogging run (in run order), which
 //! decides its verdict: `waves-fig12_bisection.csv` gives the runs made
-//! (`runs`) and what they showed; I_c is the same as with every run.
+//! (`runs`) and what they showed; I_c is the same as with every run. At
+//! `--tier acceptance` the spectrum points stop look by look (the
+//! sequential design, `drivers::critical::run_spectra`) unless
+//! `--fixed-runs` fixes their count.
 //! Published checks (shared with the reproduction matrix,
 //! `drivers::open_pipe`): I_c = 0.52, I_c independent of W and L, 1/f at
 //! I_c (at the largest rate the bisection found stationary), white noise at
@@ -15,14 +18,15 @@
 //! `cargo run --release --bin waves-fig12 -- --tier quick`
 
 use clap::Parser;
-use granular_automata::cli::{reject_duplicates, PipeArgs};
+use granular_automata::cli::{reject_duplicates, SequentialArgs};
 use granular_automata::drivers::critical::{
     self, check_options, check_sizes, default_sizes, plot_nt, plot_spectra, round_rate,
-    spectrum_points, verdict, Measured, Trends, EVERY, NT_FRACTIONS, SPECTRUM_FRACTIONS,
+    run_spectra, spectrum_points, verdict, Measured, Trends, EVERY, NT_FRACTIONS,
+    SPECTRUM_FRACTIONS,
 };
 use granular_automata::drivers::open_pipe::{fig12_pipe, CLOG_INJECT};
 use granular_automata::drivers::spectra::tier_setup;
-use granular_automata::drivers::sweep::{run_sweep, site_updates};
+use granular_automata::drivers::sweep::results_site_updates;
 use granular_automata::pipe::open::{trend_threshold, PipeSize, TREND_FALSE_ALARM};
 use granular_automata::pipe::Params;
 use granular_automata::run::{run_seeds, Output, Summary};
@@ -33,7 +37,7 @@ use std::time::Instant;
 #[command(about = "PH95 Fig. 12: open pipe, critical injection rate, spectra and alpha against I", mut_arg("shard", |a| a.hide(true)))]
 struct Args {
     #[command(flatten)]
-    pipe: PipeArgs,
+    seq: SequentialArgs,
     /// Steps of each trend run of N(t) from an empty pipe (default by tier:
     /// 20000, 50000, 100000). Shorter runs see fewer clogs: I_c is biased up.
     #[arg(long, allow_negative_numbers = true)]
@@ -57,10 +61,11 @@ granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
-    let rules = args.pipe.rules.parse()?;
-    let engine = args.pipe.rules.engine(args.pipe.common.tier)?;
-    let c = &args.pipe.common;
+    let rules = args.seq.pipe.rules.parse()?;
+    let engine = args.seq.pipe.rules.engine(args.seq.pipe.common.tier)?;
+    let c = &args.seq.pipe.common;
     c.reject_shard("waves-fig12")?; // the bisection is sequential
+    args.seq.sequential()?; // the design's options are checked before any run
     let steps: u64 = args.steps.unwrap_or(c.tier.pick(20_000, 50_000, 100_000));
     let runs = c.runs_or(4, 8, 32);
     let bisect_steps = args.bisections.unwrap_or(c.tier.pick(5, 6, 7));
@@ -102,38 +107,32 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     let points = spectrum_points(ifr, (l0, w0), (i_c, i_c_err));
     let sruns = c.runs_or(2, 8, 32);
     let setup_of = |p| tier_setup(c.tier, p, rules, engine);
-    let res = run_sweep(c, "waves-fig12", &points, sruns, setup_of)?.expect("no shard");
+    let (res, stopped) = run_spectra(&args.seq, &points, sruns, setup_of, (!args.no_spectra, i_c))?;
     let wall = start.elapsed().as_secs_f64();
 
     let out = Output::new(&c.out, "waves-fig12")?;
     bisections.write_csv(&out)?;
     plot_nt(&out, &nt, &main_pipe, runs)?;
-    let (with_spectra, nt, clog) = (!args.no_spectra, &nt, &clog);
-    let (bisections, spectra) = (&bisections, &res);
     let measured = Measured {
-        bisections,
-        nt,
-        clog,
-        spectra,
-        with_spectra,
+        bisections: &bisections,
+        nt: &nt,
+        clog: &clog,
+        spectra: &res,
+        with_spectra: !args.no_spectra,
+        stopped: stopped.as_deref(),
         runs,
     };
     let (checks, metrics) = (critical::checks(&measured), measured.metrics());
     if !res.is_empty() {
-        plot_spectra(&out, &res, &main_pipe, (sruns, i_c), rules, &checks)?;
+        plot_spectra(&out, &res, &main_pipe, i_c, rules, &checks)?;
     }
     let thr = trend_threshold(runs);
-    let base = Params {
-        p: 0.5,
-        b: 0.5,
-        g: 0.5,
-        ..Params::default()
-    };
+    let base = Params::default(); // p = b = g = 0.5
     out.finish(&Summary {
         figure: "waves-fig12".into(),
         paper: "PH95 Fig. 12".into(),
         tier: c.tier,
-        seeds: run_seeds(c.seed, runs.max(sruns)),
+        seeds: run_seeds(c.seed, res.iter().map(|r| r.valid + r.invalid).fold(runs, usize::max)),
         params: json!({"base": base, "geometries": geoms, "trend_steps": steps, "trend_every": EVERY, "trend_runs": runs,
             "trend_false_alarm": TREND_FALSE_ALARM, "trend_threshold": thr,
             "bisection_steps": bisect_steps, "spectrum_runs": sruns, "I_over_I_c": ifr, "setup": setup_of(fig12_pipe(l0, w0, i_c))}),
@@ -141,7 +140,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         engine: engine.label(),
         wall_seconds: wall,
         site_updates: bisections.rows.iter().map(|r| r[0] * r[1] * r[3]).sum::<f64>() * steps as f64
-            + site_updates(&points, sruns, setup_of),
+            + results_site_updates(&res, setup_of),
         metrics,
         missing_metrics: Default::default(),
         checks,

@@ -180,7 +180,7 @@ impl PipeArgs {
 }
 
 /// The options of a pipe figure that grades sequentially at the acceptance
-/// tier (PH94 Fig. 2, PH95 Figs. 6 and 8-10): [`PipeArgs`] and
+/// tier (PH94 Fig. 2, PH95 Figs. 6, 8-10 and 12's spectra): [`PipeArgs`] and
 /// `--sequential-max` (`--fixed-runs`, an alias of `--runs`, keeps the
 /// fixed design).
 #[derive(Debug, Clone, clap::Parser)]

@@ -596,6 +596,17 @@ fn usage_errors_exit_2_and_help_exits_0_everywhere() {
             "only for the sequential design",
         ),
         (fig2, &["--sequential-max", "0"][..], "1..=64"),
+        // PH95 Fig. 12 grades its spectrum points sequentially too
+        (
+            env!("CARGO_BIN_EXE_waves-fig12"),
+            &["--sequential-max", "2"][..],
+            "only for the sequential design",
+        ),
+        (
+            env!("CARGO_BIN_EXE_waves-fig12"),
+            &["--tier", "acceptance", "--sequential-max", "65"][..],
+            "1..=64",
+        ),
         (fig2, &["--fixed-runs", "0"][..], "1..=100000"),
         (
             fig2,

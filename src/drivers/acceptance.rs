@@ -350,6 +350,13 @@ pub fn sweep_runs(binary: &str) -> usize {
     }
 }
 
+/// Figures whose sequential design stops only part of their runs: PH95
+/// Fig. 12, where the spectrum points stop look by look
+/// ([`super::critical::run_spectra`]) and the bisection and N(t) runs keep
+/// their fixed count. Their checks without a design are computed from
+/// those fixed runs, not from the looks.
+pub const PARTLY_SEQUENTIAL: [&str; 1] = ["waves-fig12"];
+
 /// The chance of each kind of wrong verdict over all looks of the
 /// acceptance tier's sequential design (its default; docs/reference/grading.md).
 pub const SEQUENTIAL_ALPHA: f64 = 0.025;

@@ -575,7 +575,10 @@ fn results_of(s: &serde_json::Value) -> BTreeMap<String, serde_json::Value> {
 /// ran as many runs as the committed one is computed from the same runs;
 /// its verdict is left out (the design's boundary at that look is not the
 /// fixed rule's), as are metrics and checks without a design (computed
-/// from points that may have stopped at other looks).
+/// from points that may have stopped at other looks). In a figure whose
+/// design stops only part of its runs ([`super::acceptance::PARTLY_SEQUENTIAL`])
+/// the checks without a design come from the fixed runs: they are compared
+/// whole, verdict included, as in the fixed design.
 fn sequential_results_of(
     s: &serde_json::Value,
     c: &serde_json::Value,
@@ -585,15 +588,19 @@ fn sequential_results_of(
         out.insert(k.to_string(), s[k].clone());
     }
     let committed = c["checks"].as_array().cloned().unwrap_or_default();
+    let figure = s["figure"].as_str().unwrap_or("");
+    let fixed_rest = super::acceptance::PARTLY_SEQUENTIAL.contains(&figure);
     for check in s["checks"].as_array().into_iter().flatten() {
         let name = check["name"].as_str().unwrap_or("?");
         let same_runs = committed
             .iter()
             .any(|x| x["name"] == check["name"] && x["runs"] == check["runs"]);
-        if check["sequential"].is_null() || !same_runs {
-            continue;
-        }
-        for k in ["measured", "error", "claim", "runs", "kind"] {
+        let keys: &[&str] = match (check["sequential"].is_null(), fixed_rest) {
+            (false, _) if same_runs => &["measured", "error", "claim", "runs", "kind"],
+            (true, true) => &["measured", "error", "verdict", "claim", "runs", "kind"],
+            _ => &[],
+        };
+        for k in keys {
             out.insert(format!("check {name}: {k}"), check[k].clone());
         }
     }
@@ -1279,6 +1286,41 @@ mod tests {
             &seq(1.25, serde_json::json!([21, 22, 23, 24])),
         );
         assert_eq!(none.unwrap(), Twin::NotAmong);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+    /// PH95 Fig. 12 stops only its spectrum points: its other checks come
+    /// from the fixed bisection runs and are compared with a committed cut
+    /// without spectra whole, verdict included.
+    #[test]
+    fn a_partly_sequential_summary_compares_its_fixed_checks_whole() {
+        let dir = std::env::temp_dir().join(format!("ga-twin12-{}", std::process::id()));
+        let d = dir.join("seed-1").join("waves-fig12");
+        std::fs::create_dir_all(&d).unwrap();
+        let check = |name: &str, x: f64, verdict: &str| {
+            serde_json::json!({"name": name, "kind": "published", "measured": x, "error": 0.004,
+                "runs": 32, "verdict": verdict, "claim": {"test": "within", "target": 0.52, "margin": 0.05}})
+        };
+        let cut = serde_json::json!({"figure": "waves-fig12", "tier": "acceptance",
+            "seeds": [11, 12], "metrics": {}, "checks": [check("i_c", 0.51, "reproduced")]});
+        std::fs::write(d.join("summary.json"), cut.to_string()).unwrap();
+        let whole = |i_c: f64, verdict: &str| {
+            let mut s = check("one_over_f_at_i_c", 0.35, "not-reproduced");
+            (s["runs"], s["sequential"]) = (16.into(), serde_json::json!({"look": 1, "runs": 16}));
+            serde_json::json!({"figure": "waves-fig12", "tier": "acceptance", "seeds": [11, 12],
+                "metrics": {}, "checks": [check("i_c", i_c, verdict), s]})
+        };
+        let same = committed_twin(&dir, "waves-fig12", &whole(0.51, "reproduced"));
+        assert!(matches!(same, Ok(Twin::Identical { .. })), "{same:?}");
+        for (i_c, verdict, what) in [
+            (0.52, "reproduced", "i_c: measured"),
+            (0.51, "undecided", "i_c: verdict"),
+        ] {
+            let other = committed_twin(&dir, "waves-fig12", &whole(i_c, verdict));
+            assert!(
+                matches!(&other, Ok(Twin::Differs { what: w, .. }) if w.contains(what)),
+                "{other:?}"
+            );
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

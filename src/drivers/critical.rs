@@ -9,10 +9,14 @@ use super::margins::ALPHA_MARGIN;
 use super::open_pipe::{
     clogs_check, fig12_pipe, ic_check, ic_independence_check, CLOG_INJECT, TREND_EVERY,
 };
+use super::spectra::SpectrumSetup;
 use super::spectra::{published_alpha_lines, spectra_chart, spectrum_lines};
-use super::sweep::{alpha_check, header, point_metrics, PointResult, SweepPoint};
+use super::sweep::{
+    alpha_check, header, noted_point, point_metrics, run_sweep, sweep_looks, PointResult,
+    SweepPoint,
+};
 use crate::analysis::grading::{Kind, Verdict};
-use crate::cli::Common;
+use crate::cli::{Common, SequentialArgs};
 use crate::ensemble::Outcome;
 use crate::error::{Error, ErrorKind, Result};
 use crate::pipe::open::{
@@ -319,6 +323,9 @@ pub struct Measured<'a> {
     pub spectra: &'a [PointResult],
     /// Whether the spectra were asked for.
     pub with_spectra: bool,
+    /// The checks of [`spectrum_checks`] as the sequential design stopped
+    /// them ([`run_spectra`]); `None` for a fixed count.
+    pub stopped: Option<&'a [Check]>,
     /// Runs per tested rate.
     pub runs: usize,
 }
@@ -398,8 +405,34 @@ pub fn checks(m: &Measured) -> Vec<Check> {
             runs,
         ));
     }
-    let res = m.spectra;
-    if let Some(near) = res.iter().find(|r| r.point.label.ends_with("_lower_end")) {
+    checks.extend(match m.stopped {
+        Some(stopped) => stopped.to_vec(),
+        None => spectrum_checks(m.spectra, m.with_spectra, i_c),
+    });
+    // after any sequential stop: the note follows the final verdict
+    for (name, reason) in [
+        ("one_over_f_at_i_c", ONE_OVER_F_AT_I_C),
+        ("i_c_independent_of_w_and_l", I_C_INDEPENDENT),
+    ] {
+        if let Some(c) = checks.iter_mut().find(|c| c.name == name) {
+            mark_discrepancies(std::slice::from_mut(c), reason);
+        }
+    }
+    checks
+}
+
+/// The checks of PH95 Fig. 12a-b, from the spectrum points `spectra` (when
+/// `with_spectra`) at the main pipe's I_c = `i_c`: 1/f noise at I_c (at the
+/// largest rate the bisection found stationary, the `_lower_end` point) and
+/// white noise at 0.5 I_c ([`checks`] marks the known discrepancy). The
+/// only checks of the figure that its spectra decide, and so
+/// the ones graded sequentially at the acceptance tier ([`run_spectra`]).
+pub fn spectrum_checks(spectra: &[PointResult], with_spectra: bool, i_c: f64) -> Vec<Check> {
+    let mut checks = Vec::new();
+    if let Some(near) = spectra
+        .iter()
+        .find(|r| r.point.label.ends_with("_lower_end"))
+    {
         checks.push(alpha_check(
             "one_over_f_at_i_c",
             "PH95 Fig. 12a-b (1/f noise at I_c)",
@@ -407,7 +440,7 @@ pub fn checks(m: &Measured) -> Vec<Check> {
             1.0,
             ALPHA_MARGIN,
         ));
-    } else if m.with_spectra {
+    } else if with_spectra {
         checks.push(Check::with_verdict(
             "one_over_f_at_i_c",
             Kind::Published,
@@ -419,7 +452,7 @@ pub fn checks(m: &Measured) -> Vec<Check> {
             &format!("I_c not bracketed: no rate up to {i_c} clogs, so there is no I_c to measure the spectrum at"),
         ));
     }
-    if let Some(half) = res.iter().find(|r| r.point.x[1] == 0.5) {
+    if let Some(half) = spectra.iter().find(|r| r.point.x[1] == 0.5) {
         checks.push(alpha_check(
             "white_at_half_i_c",
             "PH95 Fig. 12a-b (white noise away from I_c)",
@@ -428,15 +461,37 @@ pub fn checks(m: &Measured) -> Vec<Check> {
             ALPHA_MARGIN,
         ));
     }
-    for (name, reason) in [
-        ("one_over_f_at_i_c", ONE_OVER_F_AT_I_C),
-        ("i_c_independent_of_w_and_l", I_C_INDEPENDENT),
-    ] {
-        if let Some(c) = checks.iter_mut().find(|c| c.name == name) {
-            mark_discrepancies(std::slice::from_mut(c), reason);
-        }
-    }
     checks
+}
+
+/// The spectrum points of panels (a)-(b) at the main pipe's I_c = `i_c`
+/// (none unless `with_spectra`), each in `runs` runs
+/// ([`super::sweep::run_sweep`]); or, at the acceptance tier's default, by
+/// the sequential design for `runs` ([`super::acceptance::design`],
+/// [`super::sweep::sweep_looks`]) on the checks of [`spectrum_checks`]: a
+/// point stops at the first look where no open check is computed from it,
+/// so a point that no check reads (the rest of panel b) stops at the first
+/// look. Returns the results and, when sequential, those checks as they
+/// stopped.
+pub fn run_spectra(
+    args: &SequentialArgs,
+    points: &[SweepPoint],
+    runs: usize,
+    setup_of: impl Fn(Params) -> SpectrumSetup,
+    (with_spectra, i_c): (bool, f64),
+) -> Result<(Vec<PointResult>, Option<Vec<Check>>)> {
+    let c = &args.pipe.common;
+    if !args.sequential()? || points.is_empty() {
+        let res = run_sweep(c, "waves-fig12", points, runs, setup_of)?.expect("no shard");
+        return Ok((res, None));
+    }
+    let design = super::acceptance::design(runs, args.sequential_max)?;
+    let run_point = |point: &SweepPoint, n: usize, note: &str| {
+        noted_point(c, "waves-fig12", point, n, &setup_of(point.params), note)
+    };
+    let checks_of = |rs: &[PointResult]| spectrum_checks(rs, with_spectra, i_c);
+    let (res, checks) = sweep_looks(&design, points, run_point, checks_of)?.expect("no shard");
+    Ok((res, Some(checks)))
 }
 
 /// Panel (c): N(t) at the rates of [`NT_FRACTIONS`], mean of the runs still
@@ -481,11 +536,11 @@ pub fn plot_spectra(
     out: &Output,
     res: &[PointResult],
     main_pipe: &str,
-    (sruns, i_c): (usize, f64),
+    i_c: f64,
     rules: Rules,
     checks: &[Check],
 ) -> Result<()> {
-    use super::sweep::{chart_marks, Curve, Quantity};
+    use super::sweep::{chart_marks, runs_per_point, Curve, Quantity};
     let rows: Vec<Vec<f64>> = res.iter().map(|r| r.row()).collect();
     out.write_csv("waves-fig12b.csv", &header(&["I", "I_over_I_c"]), &rows)?;
     let all: Vec<&PointResult> = res.iter().collect();
@@ -529,7 +584,10 @@ pub fn plot_spectra(
     }
     spectra_chart(
         &out.path("waves-fig12a.png"),
-        &format!("PH95 Fig. 12a: bottom-bin spectra, open pipe {main_pipe}, p = b = g = 0.5, {sruns} runs"),
+        &format!(
+            "PH95 Fig. 12a: bottom-bin spectra, open pipe {main_pipe}, p = b = g = 0.5, {}",
+            runs_per_point(res)
+        ),
         &lines,
     )?;
     let pts: Vec<(f64, f64, f64)> = res
@@ -550,4 +608,67 @@ pub fn plot_spectra(
         &marks,
         free_corner_rows(&series, 1 + marks.rows()),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::grading::Verdict;
+
+    /// The sequential design of Fig. 12's spectra (the acceptance tier's,
+    /// looks 16 and 32): a point that no check reads stops at the first
+    /// look, as does the white-noise point far inside its margin; the 1/f
+    /// point on the edge of its margin runs to the last look.
+    #[test]
+    fn the_spectrum_points_stop_where_their_checks_are_decided() {
+        let design = super::super::acceptance::design(32, 1).unwrap();
+        assert_eq!(design.looks, [16, 32]);
+        let i_c = 0.5;
+        let points = spectrum_points(&[0.25, 0.5, 1.25], (220, 11), (i_c, 0.01));
+        let alpha = |label: &str| match label {
+            "I0.25" => 0.01,          // white: decided at once
+            "I0.49_lower_end" => 0.9, // on the margin's edge (0.1)
+            _ => 2.0,                 // read by no check
+        };
+        let mut asked: Vec<(String, usize)> = Vec::new();
+        let (results, checks) = sweep_looks(
+            &design,
+            &points,
+            |p, n, _| {
+                asked.push((p.label.clone(), n));
+                Ok(Some(PointResult {
+                    point: p.clone(),
+                    alpha: alpha(&p.label),
+                    alpha_err: 0.05 / (n as f64).sqrt(),
+                    v: 0.4,
+                    v_err: 0.01,
+                    valid: n,
+                    invalid: 0,
+                    ensemble: None,
+                    of_mean: None,
+                }))
+            },
+            |rs| spectrum_checks(rs, true, i_c),
+        )
+        .unwrap()
+        .unwrap();
+        let runs = |label: &str| {
+            results
+                .iter()
+                .find(|r| r.point.label == label)
+                .unwrap()
+                .valid
+        };
+        assert_eq!(runs("I0.125"), 16, "{asked:?}");
+        assert_eq!(runs("I0.625"), 16, "{asked:?}");
+        assert_eq!(runs("I0.25"), 16, "{asked:?}");
+        assert_eq!(runs("I0.49_lower_end"), 32, "{asked:?}");
+        let by = |n: &str| checks.iter().find(|c| c.name == n).unwrap();
+        assert_eq!(by("white_at_half_i_c").verdict, Verdict::Reproduced);
+        assert_eq!(by("white_at_half_i_c").sequential.as_ref().unwrap().look, 1);
+        assert_eq!(
+            by("one_over_f_at_i_c").sequential.as_ref().unwrap().runs,
+            32
+        );
+    }
 }

@@ -388,15 +388,30 @@ pub fn sweep_looks(
     Ok(Some((now, checks)))
 }
 
-/// Site updates of a sweep: runs x steps x sites over all points.
-pub fn site_updates(
-    points: &[SweepPoint],
-    runs: usize,
+/// The runs per point of `results` for a chart title: `128 runs/point`, or
+/// `16-128 runs/point (sequential)` where points stopped at different looks.
+pub fn runs_per_point(results: &[PointResult]) -> String {
+    let runs = results.iter().map(|r| r.valid + r.invalid);
+    let (lo, hi) = (runs.clone().min().unwrap_or(0), runs.max().unwrap_or(0));
+    if lo == hi {
+        format!("{hi} runs/point")
+    } else {
+        format!("{lo}-{hi} runs/point (sequential)")
+    }
+}
+
+/// Site updates of a sweep's results: each point's own runs (a sequential
+/// sweep stops points at different looks) x steps x sites.
+pub fn results_site_updates(
+    results: &[PointResult],
     setup_of: impl Fn(Params) -> SpectrumSetup,
 ) -> f64 {
-    points
+    results
         .iter()
-        .map(|p| (runs as u64 * setup_of(p.params).steps() * p.params.sites() as u64) as f64)
+        .map(|r| {
+            let runs = (r.valid + r.invalid) as u64;
+            (runs * setup_of(r.point.params).steps() * r.point.params.sites() as u64) as f64
+        })
         .sum()
 }
 
@@ -974,13 +989,7 @@ impl<'a> SweepFigure<'a> {
     /// `16-128 runs/point (sequential)` where points stopped at different
     /// looks.
     pub fn runs_per_point(&self) -> String {
-        let runs = self.results.iter().map(|r| r.valid + r.invalid);
-        let (lo, hi) = (runs.clone().min().unwrap_or(0), runs.max().unwrap_or(0));
-        if lo == hi {
-            format!("{hi} runs/point")
-        } else {
-            format!("{lo}-{hi} runs/point (sequential)")
-        }
+        runs_per_point(&self.results)
     }
 
     /// Every result, in point order.
@@ -1023,16 +1032,7 @@ impl<'a> SweepFigure<'a> {
         checks: Vec<crate::run::Check>,
     ) -> Result<()> {
         let seed = self.args.common.seed;
-        // each point's own runs (a sequential sweep stops points early)
-        let updates: f64 = self
-            .results
-            .iter()
-            .map(|r| {
-                let runs = (r.valid + r.invalid) as u64;
-                (runs * self.setup_of(r.point.params).steps() * r.point.params.sites() as u64)
-                    as f64
-            })
-            .sum();
+        let updates = results_site_updates(&self.results, |p| self.setup_of(p));
         self.figure.finish(
             &self.out,
             crate::run::run_seeds(seed, self.runs),
