@@ -636,17 +636,7 @@ mod tests {
             &points,
             |p, n, _| {
                 asked.push((p.label.clone(), n));
-                Ok(Some(PointResult {
-                    point: p.clone(),
-                    alpha: alpha(&p.label),
-                    alpha_err: 0.05 / (n as f64).sqrt(),
-                    v: 0.4,
-                    v_err: 0.01,
-                    valid: n,
-                    invalid: 0,
-                    ensemble: None,
-                    of_mean: None,
-                }))
+                Ok(Some(PointResult::of_alpha(p, alpha(&p.label), 0.05, n)))
             },
             |rs| spectrum_checks(rs, true, i_c),
         )

@@ -690,6 +690,23 @@ pub fn fig7_reference(tier: Tier, case: Fig7Case) -> Fig7Reference {
 pub const PINNED_ALPHA_MARGIN: f64 = super::margins::ALPHA_MARGIN;
 
 impl PointResult {
+    /// A point of `n` valid runs with per-run alpha spread `sigma` around
+    /// `alpha` (v = 0.4 +- 0.01): the stand-in of the sequential tests.
+    #[cfg(test)]
+    pub fn of_alpha(point: &SweepPoint, alpha: f64, sigma: f64, n: usize) -> Self {
+        PointResult {
+            point: point.clone(),
+            alpha,
+            alpha_err: sigma / (n as f64).sqrt(),
+            v: 0.4,
+            v_err: 0.01,
+            valid: n,
+            invalid: 0,
+            ensemble: None,
+            of_mean: None,
+        }
+    }
+
     /// alpha as graded: of the averaged spectrum when [`PointResult::of_mean`]
     /// is present, else the per-run alpha of the valid runs.
     pub fn alpha_estimate(&self) -> Estimate {
@@ -1189,17 +1206,7 @@ mod tests {
             &points,
             |p, n, _| {
                 asked.push((p.label.clone(), n));
-                Ok(Some(PointResult {
-                    point: p.clone(),
-                    alpha: truth(&p.label),
-                    alpha_err: 0.2 / (n as f64).sqrt(),
-                    v: 0.4,
-                    v_err: 0.01,
-                    valid: n,
-                    invalid: 0,
-                    ensemble: None,
-                    of_mean: None,
-                }))
+                Ok(Some(PointResult::of_alpha(p, truth(&p.label), 0.2, n)))
             },
             |rs| {
                 let reference = rs.iter().find(|r| r.point.label == "p0.5").unwrap();
