@@ -8,11 +8,14 @@
 //! design.md, wrong.png, runs.png, claims.md}` and prints each design's
 //! worst wrong-verdict rate and its expected verdicts and runs.
 //!
-//! `cargo run --release --bin sequential-design -- --trials 20000`
+//! `cargo run --release --bin sequential-design -- --trials 20000`; with
+//! `--spectra suite` the cases are the acceptance tier's own estimator on
+//! the saved runs of a `report --out suite` folder.
 
 use clap::Parser;
 use granular_automata::drivers::sequential::{
-    allowed, cases, committed_claims, designs, measure, plan, write, write_plan, ALPHA,
+    allowed, cases, committed_claims, designs, measure, plan, spectra_cases, write, write_plan,
+    ALPHA,
 };
 use granular_automata::run::{progress, Output};
 use std::path::PathBuf;
@@ -34,6 +37,12 @@ struct Args {
     /// The committed report whose per-run alphas are resampled.
     #[arg(long, default_value = "docs/report")]
     report: PathBuf,
+    /// Instead of the default cases: the saved runs' spectra of PH94 Fig. 2
+    /// and PH95 Fig. 6 under this `report --out` folder, resampled and
+    /// graded by the acceptance tier's estimator (alpha of the averaged
+    /// spectrum, bootstrap SE). Skips the committed claims' study.
+    #[arg(long)]
+    spectra: Option<PathBuf>,
     /// Output folder; results go to OUT/sequential-design/.
     #[arg(long, default_value = "results")]
     out: PathBuf,
@@ -44,8 +53,15 @@ granular_automata::main_of!(body);
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let trials = args.trials as usize;
-    let designs = designs(args.max as usize)?;
-    let cases = cases(&args.report)?;
+    let mut designs = designs(args.max as usize)?;
+    if args.spectra.is_some() {
+        // the designs of the acceptance tier: fixed and O'Brien-Fleming
+        designs.retain(|d| !d.name.starts_with("pocock"));
+    }
+    let cases = match &args.spectra {
+        Some(dir) => spectra_cases(dir)?,
+        None => cases(&args.report)?,
+    };
     let out = Output::new(&args.out, "sequential-design")?;
     let pb = progress(
         (designs.len() * cases.len() * 5) as u64,
@@ -53,8 +69,12 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     );
     let rows = measure(&designs, &cases, trials, args.seed, || pb.inc(1))?;
     pb.finish_and_clear();
+    let spectra = args
+        .spectra
+        .as_ref()
+        .map_or(String::new(), |d| format!(" --spectra {}", d.display()));
     let command = format!(
-        "sequential-design --trials {trials} --max {} --seed {}",
+        "sequential-design --trials {trials} --max {} --seed {}{spectra}",
         args.max, args.seed
     );
     write(&out, &designs, &rows, trials, &command)?;
@@ -72,6 +92,10 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
             allowed(trials),
             d.design.boundaries.iter().map(|k| (k * 1000.0).round() / 1000.0).collect::<Vec<_>>()
         );
+    }
+    if args.spectra.is_some() {
+        println!("wrote {}", out.dir().display());
+        return Ok(());
     }
     // the designs over the committed claims (docs/report/report.json)
     let claims = committed_claims(&args.report.join("report.json"))?;

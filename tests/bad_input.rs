@@ -1198,11 +1198,13 @@ fn messages_name_what_is_allowed() {
         &["choose L = 8 ("],
     );
     assert_eq!(e, 2);
+    // the `#` hides the arguments validate appends ("$@"), which would make
+    // sleep fail at once and race the time limit
     let out = scratch("timeout-message");
     let o = Command::new(env!("CARGO_BIN_EXE_validate"))
         .args([
             "--candidate",
-            "cmd:sleep 5",
+            "cmd:sleep 5 #",
             "--level",
             "1",
             "--model",
@@ -1287,4 +1289,15 @@ fn a_fresh_sweep_has_no_stale_files() {
     );
     let s = json_at(&out.join("waves-fig9/summary.json"));
     assert!(s["stale_files"].is_null(), "{}", s["stale_files"]);
+}
+
+#[test]
+fn sequential_design_names_a_folder_without_saved_spectra() {
+    let exe = env!("CARGO_BIN_EXE_sequential-design");
+    refused(
+        exe,
+        &["--spectra", "no-such-suite", "--trials", "100"],
+        &["no-such-suite", "cannot list"],
+    );
+    refused(exe, &["--trials", "99"], &["--trials", "100..=10000000"]);
 }

@@ -361,11 +361,7 @@ pub fn local_background(p: &[f64], j: usize) -> Result<f64> {
             ),
         ));
     }
-    let h = PEAK_BACKGROUND_HALF_WINDOW;
-    // Window lo..=hi of 2h + 1 bins around j, shifted into 1..=len-1.
-    let mut lo = j.saturating_sub(h).max(1);
-    let hi = (lo + 2 * h).min(len - 1);
-    lo = hi.saturating_sub(2 * h).max(1);
+    let (lo, hi) = background_window(len, j);
     let mut x = Vec::new();
     let mut y = Vec::new();
     for (i, &v) in p.iter().enumerate().take(hi + 1).skip(lo) {
@@ -396,6 +392,15 @@ pub fn local_background(p: &[f64], j: usize) -> Result<f64> {
     Ok(10f64.powf(f.intercept + f.slope * (j as f64).log10()))
 }
 
+/// The window lo..=hi of [`local_background`] at `j` in a spectrum of
+/// `len` values: 2h + 1 bins around j, shifted into 1..=len-1.
+fn background_window(len: usize, j: usize) -> (usize, usize) {
+    let h = PEAK_BACKGROUND_HALF_WINDOW;
+    let lo = j.saturating_sub(h).max(1);
+    let hi = (lo + 2 * h).min(len - 1);
+    (hi.saturating_sub(2 * h).max(1), hi)
+}
+
 /// The sharp peak of the spectrum inside j_lo..=j_hi (only there): the j
 /// maximising P(j) / `local_background(j)` (ties: the lowest j). See the
 /// module docs for why this does not pick the low-frequency end of a 1/f
@@ -410,22 +415,68 @@ pub fn find_peak(p: &[f64], j_lo: usize, j_hi: usize) -> Result<usize> {
 
 /// [`find_peak`] and the peak's contrast P(j_peak) / B(j_peak) (about 1-4
 /// for a spectrum without a line; a sharp line gives much more).
+///
+/// Each log10 of the windows is taken once, not once per window: the same
+/// numbers in the same order reach each window's fit, so the result is
+/// that of [`local_background`] at every j, bit for bit, in about a fifth
+/// of the time (a bootstrap SE of alpha fits 400 resampled spectra).
 pub fn find_peak_contrast(p: &[f64], j_lo: usize, j_hi: usize) -> Result<(usize, f64)> {
     check_range_in(p, j_lo, j_hi)?;
+    let (a, _) = background_window(p.len(), j_lo);
+    let (_, z) = background_window(p.len(), j_hi);
+    if !p[a..=z].iter().all(|v| v.is_finite()) {
+        // the window's own error names the bin
+        return peak_contrast_by_windows(p, j_lo, j_hi);
+    }
+    let lx: Vec<f64> = (a..=z).map(|i| (i as f64).log10()).collect();
+    let ly: Vec<f64> = p[a..=z].iter().map(|v| v.log10()).collect();
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    let background = |j: usize, x: &mut Vec<f64>, y: &mut Vec<f64>| -> Result<f64> {
+        let (lo, hi) = background_window(p.len(), j);
+        x.clear();
+        y.clear();
+        for i in lo..=hi {
+            if i.abs_diff(j) > PEAK_BACKGROUND_GAP && p[i] > 0.0 {
+                x.push(lx[i - a]);
+                y.push(ly[i - a]);
+            }
+        }
+        if x.len() < 3 {
+            // too few usable bins: the window's own error
+            return local_background(p, j);
+        }
+        let f = linear_fit(x, y)?;
+        Ok(10f64.powf(f.intercept + f.slope * lx[j - a]))
+    };
+    best_contrast(p, j_lo, j_hi, |j| background(j, &mut x, &mut y))
+}
+
+/// [`find_peak_contrast`] by [`local_background`] at each j.
+fn peak_contrast_by_windows(p: &[f64], j_lo: usize, j_hi: usize) -> Result<(usize, f64)> {
+    best_contrast(p, j_lo, j_hi, |j| local_background(p, j))
+}
+
+/// The j in j_lo..=j_hi maximising P(j) / `background(j)` (ties: the
+/// lowest j) and that contrast.
+fn best_contrast(
+    p: &[f64],
+    j_lo: usize,
+    j_hi: usize,
+    mut background: impl FnMut(usize) -> Result<f64>,
+) -> Result<(usize, f64)> {
     let mut best = (j_lo, f64::NEG_INFINITY);
-    for j in j_lo..=j_hi {
-        let b = local_background(p, j)?;
-        if !(b.is_finite() && b > 0.0 && p[j].is_finite()) {
+    for (j, &pj) in p.iter().enumerate().take(j_hi + 1).skip(j_lo) {
+        let b = background(j)?;
+        if !(b.is_finite() && b > 0.0 && pj.is_finite()) {
             return Err(Error::new(
                 ErrorKind::BadSeries,
                 format!(
-                    "P({j}) = {} over background {b}: peak finding needs finite P and a \
-                     positive background; check the spectrum",
-                    p[j]
+                    "P({j}) = {pj} over background {b}: peak finding needs finite P and a \
+                     positive background; check the spectrum"
                 ),
             ));
         }
-        let c = p[j] / b;
+        let c = pj / b;
         if c > best.1 {
             best = (j, c);
         }
@@ -497,7 +548,30 @@ pub struct AlphaEstimate {
 /// (EXPERIMENTS.md "Fig. 9 over fresh base seeds"); its SE over runs is
 /// therefore a bootstrap ([`super::mean_spectrum::alpha_of_mean`]).
 pub fn estimate_alpha(p: &[f64]) -> Result<AlphaEstimate> {
-    let m = p.len();
+    estimate_alpha_of(p, p.len())
+}
+
+/// The bins of a spectrum of `m` frequencies that [`estimate_alpha`] reads:
+/// the fit range and the background window of its last bin. A prefix of
+/// this length gives the same estimate ([`estimate_alpha_of`]).
+pub fn alpha_prefix(m: usize) -> usize {
+    let (_, j_hi) = default_fit_range(m);
+    (j_hi + PEAK_BACKGROUND_HALF_WINDOW + 1).min(m)
+}
+
+/// [`estimate_alpha`] of a spectrum of `m` frequencies given by its first
+/// bins `p` (at least [`alpha_prefix`]`(m)` of them; the rest are not
+/// read): the same estimate, bit for bit, from a sixteenth of the data at
+/// m = 16384. Errors as [`estimate_alpha`], and
+/// [`ErrorKind::InvalidParameter`] for a prefix shorter than that.
+pub fn estimate_alpha_of(p: &[f64], m: usize) -> Result<AlphaEstimate> {
+    if p.len() < alpha_prefix(m) || p.len() > m {
+        return Err(Error::out_of_range(
+            "spectrum prefix (bins)",
+            p.len(),
+            &format!("[{}, {m}] for m = {m}", alpha_prefix(m)),
+        ));
+    }
     let mut params = PowerLawParams::default_for(m);
     let (j_peak, contrast) = find_peak_contrast(p, params.j_lo, params.j_hi)?;
     let excluded = exclude_peak(j_peak, default_peak_half_width(m));
@@ -541,6 +615,44 @@ pub fn period_steps(j: usize, t0_steps: usize, m: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_peak_search_equals_a_fit_per_window_bit_for_bit() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(5);
+        for len in [40usize, 64, 300, 2048] {
+            for zeros in [0.0, 0.05] {
+                let p: Vec<f64> = (0..len)
+                    .map(|j| {
+                        let u: f64 = rng.random();
+                        if u < zeros {
+                            0.0
+                        } else {
+                            (j.max(1) as f64).powf(-1.2) * -(1.0 - rng.random::<f64>()).ln()
+                        }
+                    })
+                    .collect();
+                let (lo, hi) = (2, len - 1);
+                let fast = find_peak_contrast(&p, lo, hi);
+                let slow = peak_contrast_by_windows(&p, lo, hi);
+                match (fast, slow) {
+                    (Ok(f), Ok(s)) => {
+                        assert_eq!((f.0, f.1.to_bits()), (s.0, s.1.to_bits()), "len {len}")
+                    }
+                    (Err(f), Err(s)) => assert_eq!(f.message, s.message),
+                    (f, s) => panic!("len {len}: {f:?} vs {s:?}"),
+                }
+            }
+        }
+        // a non-finite bin: the same error as the window that holds it
+        let mut p: Vec<f64> = (0..200).map(|j| 1.0 / (j.max(1) as f64)).collect();
+        p[100] = f64::NAN;
+        let (f, s) = (
+            find_peak_contrast(&p, 5, 150),
+            peak_contrast_by_windows(&p, 5, 150),
+        );
+        assert_eq!(f.unwrap_err().message, s.unwrap_err().message);
+    }
     use crate::analysis::spectrum::{spctrm, SpectrumParams, Window};
     use rand::{RngExt, SeedableRng};
     use rand_xoshiro::Xoshiro256PlusPlus;

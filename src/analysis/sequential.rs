@@ -21,6 +21,7 @@
 //! normally distributed means. `sequential-design` measures the rate.
 
 use super::grading::{coverage_factor, grade_with, Claim, Estimate, Verdict, MIN_RUNS};
+use super::mean_spectrum::alpha_of_mean_of;
 use super::stats::student_t_isf;
 use crate::error::{Error, ErrorKind, Result};
 use serde::Serialize;
@@ -238,6 +239,17 @@ pub enum Source {
         /// The per-run values (at least two).
         values: Vec<f64>,
     },
+    /// Runs' spectra drawn with replacement; each look grades alpha of
+    /// their averaged spectrum with its bootstrap SE
+    /// ([`alpha_of_mean_of`], the estimator of the acceptance tier), moved
+    /// by the truth minus alpha of all the spectra's average.
+    Spectra {
+        /// Per run, the first [`crate::analysis::fit::alpha_prefix`]`(m)`
+        /// bins of its spectrum (at least three runs).
+        rows: Vec<Vec<f64>>,
+        /// The spectra's frequencies m.
+        m: usize,
+    },
 }
 
 impl Source {
@@ -248,6 +260,9 @@ impl Source {
             Source::Resampled { values } => {
                 let e = Estimate::of(values);
                 e.se * (e.n as f64).sqrt()
+            }
+            Source::Spectra { rows, m } => {
+                alpha_of_mean_of(rows, *m).map_or(f64::NAN, |e| e.se * (e.n as f64).sqrt())
             }
         }
     }
@@ -329,6 +344,15 @@ pub fn simulate_claim(
             ));
         }
     }
+    if let Source::Spectra { rows, m } = source {
+        if !truth.is_finite() {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!("simulation: the truth {truth} must be finite"),
+            ));
+        }
+        return simulate_spectra(design, claim, truth, rows, *m, trials, seed);
+    }
     if !(truth.is_finite() && source.sd().is_finite() && source.sd() >= 0.0) {
         return Err(Error::new(
             ErrorKind::InvalidParameter,
@@ -341,6 +365,7 @@ pub fn simulate_claim(
     let centre = match source {
         Source::Resampled { values } => values.iter().sum::<f64>() / values.len() as f64,
         Source::Normal { .. } => 0.0,
+        Source::Spectra { .. } => unreachable!("simulated by simulate_spectra above"),
     };
     let right = truth_verdict(claim, truth);
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
@@ -361,6 +386,7 @@ pub fn simulate_claim(
                     Source::Resampled { values } => {
                         truth + values[rng.random_range(0..values.len())] - centre
                     }
+                    Source::Spectra { .. } => unreachable!("simulated by simulate_spectra above"),
                 };
                 xs.push(x);
             }
@@ -376,15 +402,103 @@ pub fn simulate_claim(
             wrong += 1;
         }
     }
-    let t = trials.max(1) as f64;
-    Ok(Simulated {
-        trials,
-        reproduced: yes as f64 / t,
-        not_reproduced: no as f64 / t,
-        undecided: (trials - yes - no) as f64 / t,
-        wrong: wrong as f64 / t,
-        mean_runs: runs as f64 / t,
-    })
+    Ok(Simulated::of(trials, [yes, no, wrong, runs]))
+}
+
+impl Simulated {
+    /// The shares of `trials` trials from the counts [reproduced, not
+    /// reproduced, wrong, runs spent].
+    fn of(trials: usize, [yes, no, wrong, runs]: [usize; 4]) -> Simulated {
+        let t = trials.max(1) as f64;
+        Simulated {
+            trials,
+            reproduced: yes as f64 / t,
+            not_reproduced: no as f64 / t,
+            undecided: (trials - yes - no) as f64 / t,
+            wrong: wrong as f64 / t,
+            mean_runs: runs as f64 / t,
+        }
+    }
+}
+
+/// SplitMix64's finaliser: a well-spread seed for trial `i` of a cell.
+fn mix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// [`simulate_claim`] for [`Source::Spectra`]. Each trial draws its runs
+/// with its own generator, seeded from `seed` and the trial's index, so the
+/// counts are the same on any number of threads; the trials are shared
+/// among the machine's cores (a bootstrap of 400 averaged spectra per look
+/// makes a trial cost milliseconds, not nanoseconds).
+fn simulate_spectra(
+    design: &Design,
+    claim: Claim,
+    truth: f64,
+    rows: &[Vec<f64>],
+    m: usize,
+    trials: usize,
+    seed: u64,
+) -> Result<Simulated> {
+    use rand::{RngExt, SeedableRng};
+    let centre = alpha_of_mean_of(rows, m)?.mean;
+    let right = truth_verdict(claim, truth);
+    let max = *design.looks.last().expect("a design has looks");
+    let trial = |i: usize| -> Result<[usize; 4]> {
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(mix(mix(seed) ^ i as u64));
+        let idx: Vec<usize> = (0..max).map(|_| rng.random_range(0..rows.len())).collect();
+        let mut failed = None;
+        let stop = design.run(claim, |n| {
+            let sample: Vec<Vec<f64>> = idx[..n].iter().map(|&k| rows[k].clone()).collect();
+            match alpha_of_mean_of(&sample, m) {
+                Ok(e) => Estimate::new(truth + e.mean - centre, e.se, n),
+                Err(e) => {
+                    failed.get_or_insert(e);
+                    Estimate::new(f64::NAN, f64::NAN, n)
+                }
+            }
+        });
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        let decided = stop.verdict != Verdict::Undecided;
+        Ok([
+            (stop.verdict == Verdict::Reproduced) as usize,
+            (stop.verdict == Verdict::NotReproduced) as usize,
+            (decided && stop.verdict != right) as usize,
+            stop.runs,
+        ])
+    };
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, trials.max(1));
+    let parts: Vec<Result<[usize; 4]>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                let trial = &trial;
+                scope.spawn(move || {
+                    let mut sum = [0usize; 4];
+                    for i in (t..trials).step_by(threads) {
+                        let c = trial(i)?;
+                        sum.iter_mut().zip(c).for_each(|(s, c)| *s += c);
+                    }
+                    Ok(sum)
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("a simulation thread panicked"))
+            .collect()
+    });
+    let mut counts = [0usize; 4];
+    for p in parts {
+        counts.iter_mut().zip(p?).for_each(|(s, c)| *s += c);
+    }
+    Ok(Simulated::of(trials, counts))
 }
 
 #[cfg(test)]
@@ -432,6 +546,36 @@ mod tests {
         assert!(Design::new(vec![8, 16], 0.5, Spending::Pocock).is_err());
         assert!(Design::new(vec![8, 16], f64::NAN, Spending::Pocock).is_err());
         assert!(Design::doubling(0, 8, 0.025, Spending::Pocock).is_err());
+    }
+
+    #[test]
+    fn resampled_spectra_grade_the_averaged_spectrum_the_same_way_every_time() {
+        use rand::{RngExt, SeedableRng};
+        // 8 runs' spectra of m = 2048 frequencies around j^-1.3
+        let m = 2048;
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(3);
+        let rows: Vec<Vec<f64>> = (0..8)
+            .map(|_| {
+                (0..crate::analysis::fit::alpha_prefix(m))
+                    .map(|j| (j.max(1) as f64).powf(-1.3) * -(1.0 - rng.random::<f64>()).ln())
+                    .collect()
+            })
+            .collect();
+        let source = Source::Spectra { rows, m };
+        assert!(source.sd().is_finite() && source.sd() > 0.0);
+        let d = Design::new(vec![4, 8], 0.025, Spending::OBrienFleming).unwrap();
+        let margin = 10.0 * source.sd();
+        let inside = simulate(&d, margin, 0.0, &source, 40, 1).unwrap();
+        assert_eq!(inside.reproduced, 1.0, "{inside:?}");
+        assert_eq!(inside, simulate(&d, margin, 0.0, &source, 40, 1).unwrap());
+        let outside = simulate(&d, margin, 3.0, &source, 40, 1).unwrap();
+        assert_eq!(outside.not_reproduced, 1.0, "{outside:?}");
+        assert!(simulate(&d, margin, f64::NAN, &source, 40, 1).is_err());
+        let few = Source::Spectra {
+            rows: vec![vec![1.0; 200]; 2],
+            m,
+        };
+        assert!(simulate(&d, 1.0, 0.0, &few, 40, 1).is_err());
     }
 
     #[test]

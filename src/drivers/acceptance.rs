@@ -443,10 +443,11 @@ pub fn run_looks<E>(
 /// Runs needed to decide an equivalence claim at margin `delta` when the
 /// difference is `d` and one run has spread `sigma` (SE = sigma/sqrt(n)):
 /// the n at which | |d| - delta | = (2 + 1.645) sigma / sqrt(n), so that the
-/// verdict is decided in 95 % of seed sets. `None` when |d| = delta.
+/// verdict is decided in 95 % of seed sets. `None` when |d| = delta up to
+/// rounding (a gap within 1e-9 of |d| + delta: no run count decides it).
 pub fn runs_to_decide(d: f64, delta: f64, sigma: f64) -> Option<f64> {
     let gap = (d.abs() - delta).abs();
-    (gap > 0.0).then(|| ((2.0 + 1.645) * sigma / gap).powi(2))
+    (gap > 1e-9 * (d.abs() + delta)).then(|| ((2.0 + 1.645) * sigma / gap).powi(2))
 }
 
 /// [`runs_to_decide`] for a claim left undecided at `stop`, the spread of
@@ -611,6 +612,14 @@ mod tests {
         };
         let n = stop_runs_to_decide(&stop, claim).unwrap();
         assert!((850.0..=852.0).contains(&n), "{n}");
+        // on the edge up to rounding (0.3 - 0.2 < 0.1): no absurd count
+        let edge = Stop {
+            estimate: Estimate::new(0.3 - 0.2, 0.01, 64),
+            ..stop
+        };
+        assert!(0.3 - 0.2 != 0.1 && stop_runs_to_decide(&edge, claim).is_none());
+        let d = Design::new(vec![16, 64], 0.025, Spending::OBrienFleming).unwrap();
+        assert!(stop_note(&d, &edge, claim).contains("on the margin's edge"));
     }
 
     #[test]

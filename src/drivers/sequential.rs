@@ -6,6 +6,7 @@
 //! tier (one look at the maximum, k = max(2, t)). `sequential-design`
 //! writes the table and the plots.
 
+use crate::analysis::fit::alpha_prefix;
 use crate::analysis::grading::{Claim, Verdict};
 use crate::analysis::sequential::{simulate, simulate_claim, Design, Simulated, Source, Spending};
 use crate::error::{Error, ErrorKind, Result};
@@ -74,6 +75,12 @@ fn committed(dir: &Path, column: &str, check: &str) -> Result<(Vec<f64>, f64)> {
         .map(|l| l.split(',').nth(i).and_then(|v| v.parse::<f64>().ok()))
         .collect::<Option<Vec<f64>>>()
         .ok_or_else(|| bad(format!("runs.csv: a row without a number in {column}")))?;
+    Ok((values, committed_margin(dir, check)?))
+}
+
+/// The margin of check `check` in `dir/summary.json`.
+fn committed_margin(dir: &Path, check: &str) -> Result<f64> {
+    let bad = |what: String| Error::new(ErrorKind::Io, format!("{}: {what}", dir.display()));
     let summary: serde_json::Value = std::fs::read_to_string(dir.join("summary.json"))
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok())
@@ -83,7 +90,7 @@ fn committed(dir: &Path, column: &str, check: &str) -> Result<(Vec<f64>, f64)> {
         .and_then(|cs| cs.iter().find(|c| c["name"] == check))
         .and_then(|c| c["tolerance"].as_f64())
         .ok_or_else(|| bad(format!("summary.json has no check {check} with a margin")))?;
-    Ok((values, margin))
+    Ok(margin)
 }
 
 /// The cases: normal runs with a spread of 0.5, 1 and 2 margins, and the
@@ -106,6 +113,83 @@ pub fn cases(report: &Path) -> Result<Vec<Case>> {
         let source = Source::Resampled { values };
         out.push(Case {
             name: format!("{name}, resampled (sd {:.2} margins)", source.sd() / margin),
+            margin,
+            source,
+        });
+    }
+    Ok(out)
+}
+
+/// The spectra of the saved runs of figure `fig` under `suite` (the `--out`
+/// folder of an acceptance-tier report: `suite/FIG/runs/KEY/run-*.json`,
+/// one run folder), each cut to the bins alpha reads, with m.
+fn saved_spectra(suite: &Path, fig: &str) -> Result<(Vec<Vec<f64>>, usize)> {
+    let runs = suite.join(fig).join("runs");
+    let bad = |what: String| Error::new(ErrorKind::Io, format!("{}: {what}", runs.display()));
+    let listed = |dir: &Path| -> Result<Vec<std::path::PathBuf>> {
+        let mut v: Vec<_> = std::fs::read_dir(dir)
+            .map_err(|e| bad(format!("cannot list {}: {e}", dir.display())))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .collect();
+        v.sort();
+        Ok(v)
+    };
+    let folders: Vec<_> = listed(&runs)?.into_iter().filter(|p| p.is_dir()).collect();
+    let [folder] = folders.as_slice() else {
+        return Err(bad(format!(
+            "needs exactly one run folder (one configuration), found {}",
+            folders.len()
+        )));
+    };
+    let mut rows = Vec::new();
+    let mut m = 0;
+    for path in listed(folder)? {
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        if !(name.starts_with("run-") && name.ends_with(".json")) {
+            continue;
+        }
+        let text =
+            std::fs::read_to_string(&path).map_err(|e| bad(format!("{}: {e}", path.display())))?;
+        let body = crate::ensemble::verify_run_file(&path, &text)?;
+        let spectrum: Vec<f64> = body
+            .get("result")
+            .and_then(|r| r.get("spectrum"))
+            .and_then(|s| serde_json::from_value(s.clone()).ok())
+            .ok_or_else(|| bad(format!("{} holds no spectrum", path.display())))?;
+        if m == 0 {
+            m = spectrum.len();
+        }
+        if spectrum.len() != m || m == 0 {
+            return Err(bad(format!(
+                "{}: a spectrum of {} frequencies among spectra of {m}",
+                path.display(),
+                spectrum.len()
+            )));
+        }
+        rows.push(spectrum[..alpha_prefix(m)].to_vec());
+    }
+    Ok((rows, m))
+}
+
+/// The cases of the acceptance tier's own estimator: the saved runs'
+/// spectra of PH94 Fig. 2 and PH95 Fig. 6 under `suite`, resampled, each
+/// look grading alpha of their averaged spectrum with its bootstrap SE;
+/// margins from the summaries beside them.
+pub fn spectra_cases(suite: &Path) -> Result<Vec<Case>> {
+    let mut out = Vec::new();
+    for (fig, name) in [
+        ("fig2", "PH94 Fig. 2 alpha"),
+        ("waves-fig6", "PH95 Fig. 6 alpha"),
+    ] {
+        let (rows, m) = saved_spectra(suite, fig)?;
+        let n = rows.len();
+        let margin = committed_margin(&suite.join(fig), "alpha")?;
+        let source = Source::Spectra { rows, m };
+        out.push(Case {
+            name: format!(
+                "{name} of the averaged spectrum, {n} runs resampled (sd {:.2} margins)",
+                source.sd() / margin
+            ),
             margin,
             source,
         });
