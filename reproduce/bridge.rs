@@ -21,6 +21,7 @@ use std::time::Instant;
 #[derive(Parser)]
 #[command(about = "lane-collide:q calibrated on half the claims, tested on the other half")]
 #[command(mut_arg("shard", |a| a.hide(true)))]
+#[command(mut_arg("runs", |a| a.help(granular_automata::cli::MATRIX_RUNS_HELP).long_help(None::<&str>)))]
 struct Args {
     #[command(flatten)]
     common: Common,

@@ -23,14 +23,18 @@ struct Args {
     readers: Option<String>,
     /// Inputs per reader, 1..=100000000 (default: each reader's long budget,
     /// 1.15 million in all).
-    #[arg(long, value_parser = inputs)]
+    #[arg(long, value_parser = inputs, allow_negative_numbers = true)]
     inputs: Option<u64>,
-    /// Seed of the generated inputs.
-    #[arg(long, default_value_t = 60)]
+    /// Seed of the generated inputs, 0..=2^64 - 1.
+    #[arg(long, default_value_t = 60, value_parser = seed, allow_negative_numbers = true)]
     seed: u64,
     /// Output folder; the counts go to `OUT/fuzz/`.
     #[arg(long, default_value = "results")]
     out: PathBuf,
+}
+
+fn seed(s: &str) -> granular_automata::Result<u64> {
+    granular_automata::cli::parse_seed("--seed", s)
 }
 
 fn inputs(s: &str) -> granular_automata::Result<u64> {
@@ -52,6 +56,18 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
                 .collect::<granular_automata::Result<_>>()?
         }
     };
+    // the output folder first: a bad --out fails before any input is tried
+    let dir = a.out.join("fuzz");
+    std::fs::create_dir_all(&dir).map_err(|e| {
+        Error::new(
+            ErrorKind::Io,
+            format!(
+                "--out {}: cannot create {}: {e}",
+                a.out.display(),
+                dir.display()
+            ),
+        )
+    })?;
     let count = |r: Reader| a.inputs.unwrap_or_else(|| long_inputs(r));
     let total: u64 = readers.iter().map(|&r| count(r)).sum();
     println!(
@@ -85,13 +101,6 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         "all: {} inputs, {} accepted, {} refused, {} panics, {} hangs, {} silent, {:.1} s",
         all.inputs, all.accepted, all.refused, all.panics, all.hangs, all.silent, all.seconds
     );
-    let dir = a.out.join("fuzz");
-    std::fs::create_dir_all(&dir).map_err(|e| {
-        Error::new(
-            ErrorKind::Io,
-            format!("cannot create {}: {e}", dir.display()),
-        )
-    })?;
     tallies.push(all.clone());
     write_atomic(&dir.join("counts.csv"), csv(&tallies).as_bytes())?;
     let json = serde_json::json!({"seed": a.seed, "time_limit_seconds": TIME_LIMIT.as_secs(),

@@ -29,6 +29,7 @@ ph94+wall-drag+wall-move,any-mover+wall-move";
 #[derive(Parser)]
 #[command(about = "Which reading of the pipe rules reproduces which published claim")]
 #[command(mut_arg("shard", |a| a.hide(true)))]
+#[command(mut_arg("runs", |a| a.help(granular_automata::cli::MATRIX_RUNS_HELP).long_help(None::<&str>)))]
 struct Args {
     #[command(flatten)]
     common: Common,

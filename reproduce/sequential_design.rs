@@ -26,14 +26,18 @@ use std::path::PathBuf;
 )]
 struct Args {
     /// Simulated claims per design, source and distance, 100..=10000000.
-    #[arg(long, default_value_t = 20000, value_parser = clap::value_parser!(u64).range(100..=10_000_000))]
+    #[arg(long, default_value_t = 20000, value_parser = |s: &str| count("--trials", s, 100, 10_000_000), allow_negative_numbers = true)]
     trials: u64,
     /// The designs' largest look (runs), 16..=100000.
-    #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u64).range(16..=100_000))]
+    #[arg(long, default_value_t = 128, value_parser = |s: &str| count("--max", s, 16, 100_000), allow_negative_numbers = true)]
     max: u64,
-    /// Base seed of the simulation.
-    #[arg(long, default_value_t = 1)]
+    /// Base seed of the simulation, 0..=2^64 - 1.
+    #[arg(long, default_value_t = 1, value_parser = |s: &str| granular_automata::cli::parse_seed("--seed", s), allow_negative_numbers = true)]
     seed: u64,
+    /// Worker threads, 1..=1024 (default: all cores); the counts do not
+    /// depend on it.
+    #[arg(long, value_parser = granular_automata::cli::parse_threads, allow_negative_numbers = true)]
+    threads: Option<usize>,
     /// The committed report whose per-run alphas are resampled.
     #[arg(long, default_value = "docs/report")]
     report: PathBuf,
@@ -48,6 +52,11 @@ struct Args {
     out: PathBuf,
 }
 
+/// A whole number of option `name` in `lo..=hi`.
+fn count(name: &str, s: &str, lo: usize, hi: usize) -> granular_automata::Result<u64> {
+    granular_automata::cli::parse_count(name, s, lo, hi).map(|n| n as u64)
+}
+
 granular_automata::main_of!(body);
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
@@ -59,7 +68,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         designs.retain(|d| !d.name.starts_with("pocock"));
     }
     let cases = match &args.spectra {
-        Some(dir) => spectra_cases(dir)?,
+        Some(dir) => spectra_cases(dir, args.threads.unwrap_or(0))?,
         None => cases(&args.report)?,
     };
     let out = Output::new(&args.out, "sequential-design")?;

@@ -33,7 +33,7 @@ struct Args {
     /// peak is searched in PH94's fit range j <= 1000 (m = 16384), i.e. for
     /// v <= L / 328 rows per step: below L = 220 a wave of v = 0.4 lies
     /// outside it and v reads a noise bin.
-    #[arg(long, default_value_t = 220)]
+    #[arg(long, default_value_t = 220, allow_negative_numbers = true, value_parser = |s: &str| granular_automata::cli::parse_count("--length", s, 0, usize::MAX))]
     length: usize,
 }
 

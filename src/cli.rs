@@ -6,6 +6,7 @@
 //! [`PipeArgs::parse_about`]; one with options of its own flattens
 //! [`PipeArgs`] into its `clap::Parser`.
 
+use crate::analysis::grading::MIN_RUNS;
 use crate::ensemble::{Ensemble, Shard};
 use crate::pipe::record::fig1_pipe;
 use crate::pipe::rules::RULE_NAMES;
@@ -41,6 +42,13 @@ pub fn parse_real(name: &str, s: &str, lo: f64, hi: f64) -> crate::Result<f64> {
     } else {
         Err(crate::Error::out_of_range(name, v, &range))
     }
+}
+
+/// Parse a seed option `name`: a whole number in 0..=2^64 - 1.
+pub fn parse_seed(name: &str, s: &str) -> crate::Result<u64> {
+    s.trim()
+        .parse::<u64>()
+        .map_err(|_| crate::Error::out_of_range(name, s, &format!("0..={}", u64::MAX)))
 }
 
 /// Parse `--runs`: a whole number in 1..=[`MAX_RUNS`].
@@ -158,6 +166,10 @@ pub struct PipeRules {
     pub engine: Option<String>,
 }
 
+/// `--runs` (`--fixed-runs`) of the matrix and the bridge: the figures'
+/// help speaks of a sequential design these do not have.
+pub const MATRIX_RUNS_HELP: &str = "Runs for every set-up of the matrix (spectra, waves, open pipe), 1..=100000 (default: set by the tier); --fixed-runs is the same option, as in every figure (the matrix has no sequential design)";
+
 /// The options of a pipe figure: [`Common`] and `--rules`.
 #[derive(Debug, Clone, clap::Parser)]
 pub struct PipeArgs {
@@ -192,7 +204,7 @@ pub struct SequentialArgs {
     /// times the figure's fixed count, 1..=64 (default 1; 4 decides more
     /// claims at about 1.5 times the fixed design's runs,
     /// docs/sequential-design).
-    #[arg(long, value_parser = parse_factor, default_value_t = 1)]
+    #[arg(long, value_parser = parse_factor, default_value_t = 1, allow_negative_numbers = true)]
     pub sequential_max: usize,
 }
 
@@ -220,6 +232,13 @@ impl SequentialArgs {
         let bad = |why: String| Err(crate::Error::new(crate::ErrorKind::InvalidParameter, why));
         if sequential && c.shard.is_some() {
             return bad("--shard at --tier acceptance: the default sequential design needs every run of one look before the next, in one process; give --fixed-runs N (the fixed count, 128 for most figures) to shard".into());
+        }
+        // the acceptance estimators (a bootstrap over runs) need at least
+        // MIN_RUNS runs: refused here, before any run is made or written
+        if let Some(n) = c.runs.filter(|&n| c.tier.is_acceptance() && n < MIN_RUNS) {
+            return bad(format!(
+                "--fixed-runs {n} (--runs) at --tier acceptance: its estimators need at least {MIN_RUNS} runs; choose --fixed-runs in [{MIN_RUNS}, 100000]"
+            ));
         }
         if !sequential && self.sequential_max != 1 {
             return bad(format!(

@@ -43,12 +43,34 @@ impl Error {
         }
     }
 
-    /// A parameter `name = value` outside `allowed`.
+    /// A parameter `name = value` outside `allowed`; a number written with
+    /// hundreds of digits (1e300, 1e-320) is shown as [`num`] writes it.
     pub fn out_of_range(name: &str, value: impl fmt::Display, allowed: &str) -> Self {
+        let value = tidy(value.to_string());
         Error::new(
             ErrorKind::InvalidParameter,
             format!("{name} = {value} is outside the allowed range {allowed}; choose {name} in {allowed}"),
         )
+    }
+}
+
+/// `x` as the shortest text that reads back as `x`, in exponent notation
+/// outside 1e-4 <= |x| < 1e16 (Rust's `{}` writes 1e300 with 301 digits and
+/// 1e-320 with 320): `0.001`, `1e-320`, `1e300`.
+pub fn num(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e16).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// A value's text, with a long number (more than 24 characters, e.g. a
+/// float written in full) rewritten by [`num`].
+fn tidy(text: String) -> String {
+    match text.parse::<f64>() {
+        Ok(x) if text.len() > 24 => num(x),
+        _ => text,
     }
 }
 

@@ -60,9 +60,11 @@ pub fn read_notes(text: &str) -> Result<Notes> {
 /// Errors: an unreadable file or a malformed note
 /// ([`ErrorKind::InvalidParameter`]).
 pub fn read_notes_file(path: &Path) -> Result<Notes> {
+    // a file that cannot be read is a failure while running (exit 1,
+    // docs/reference/cli.md), not a usage error
     let text = std::fs::read_to_string(path).map_err(|e| {
         Error::new(
-            ErrorKind::InvalidParameter,
+            ErrorKind::Io,
             format!("--claim-notes {}: {e}", path.display()),
         )
     })?;

@@ -740,6 +740,17 @@ fn check_summary(s: &Value) -> std::result::Result<(), String> {
                 ),
             );
         }
+        // every verdict recomputed by the one rule: a hand-edited value,
+        // SE, margin or verdict that disagree is refused, not taken at its word
+        crate::run::verify_check(c).map_err(|e| format!("malformed: check {name}: {e}"))?;
+    }
+    match s.get("metrics") {
+        None | Some(Value::Object(_)) => {}
+        Some(m) => {
+            return Err(format!(
+                "malformed: `metrics` is {m}, not an object of named numbers"
+            ))
+        }
     }
     Ok(())
 }
@@ -1303,6 +1314,16 @@ fn resolved(path: &Path) -> PathBuf {
 /// Refuse a publish folder that is the report's `--out`, lies inside it or
 /// holds it: publishing there would replace the summaries it copies from.
 pub fn check_publish_folder(out: &Path, dest: &Path) -> Result<()> {
+    // a file where the folder should go is refused before any figure runs
+    if dest.exists() && !dest.is_dir() {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!(
+                "--publish {}: is a file, not a folder; give a folder for the published copy; nothing was written",
+                dest.display()
+            ),
+        ));
+    }
     let (o, d) = (resolved(out), resolved(dest));
     if d.starts_with(&o) || o.starts_with(&d) {
         return Err(Error::new(

@@ -649,6 +649,137 @@ impl Figure {
     }
 }
 
+/// Check one check of a written summary.json (`c`, as [`Check`] writes it)
+/// the way the report reads it: every field of its type and range, its
+/// claim consistent with `published` and `tolerance`, `pass` with
+/// `verdict`, and the verdict the one rule's
+/// ([`crate::analysis::grading`]) for its value, SE and runs, with the
+/// boundary k of its `sequential` block where it has one. A check without
+/// a claim (an identity, a composite) is checked for its fields and `pass`.
+/// Fields of the older format (no `kind`, no `verdict`) may be missing.
+/// Returns what is wrong, naming the field.
+pub fn verify_check(c: &serde_json::Value) -> std::result::Result<(), String> {
+    use serde_json::Value;
+    let number = |field: &str| -> std::result::Result<f64, String> {
+        match &c[field] {
+            Value::Null => Ok(f64::NAN),
+            Value::Number(x) => Ok(x.as_f64().unwrap_or(f64::NAN)),
+            v => Err(format!("`{field}` is {v}, not a number or null")),
+        }
+    };
+    let (measured, error) = (number("measured")?, number("error")?);
+    let (published, tolerance) = (number("published")?, number("tolerance")?);
+    if error < 0.0 {
+        return Err(format!("`error` is {error}, not a standard error >= 0"));
+    }
+    let runs = match &c["runs"] {
+        Value::Null => None,
+        v => Some(
+            v.as_u64()
+                .ok_or_else(|| format!("`runs` is {v}, not a run count (a whole number >= 0)"))?,
+        ),
+    };
+    let pass = match &c["pass"] {
+        Value::Null => None,
+        Value::Bool(b) => Some(*b),
+        v => return Err(format!("`pass` is {v}, not true or false")),
+    };
+    let verdict = match &c["verdict"] {
+        Value::Null => None,
+        v => Some(serde_json::from_value::<Verdict>(v.clone()).map_err(|_| {
+            format!("`verdict` is {v}, not one of reproduced, not-reproduced, undecided")
+        })?),
+    };
+    if let (Some(p), Some(v)) = (pass, verdict) {
+        if p != (v == Verdict::Reproduced) {
+            return Err(format!(
+                "`pass` is {p} but `verdict` is {}: pass is verdict == reproduced",
+                v.status()
+            ));
+        }
+    }
+    let claim = match &c["claim"] {
+        Value::Null => None,
+        v => Some(
+            serde_json::from_value::<Claim>(v.clone())
+                .map_err(|e| format!("`claim` is {v}, not a claim ({e})"))?,
+        ),
+    };
+    let same = |a: f64, b: f64| a == b || (a.is_nan() && b.is_nan());
+    match claim {
+        None => {}
+        Some(Claim::Within { target, margin }) => {
+            if !(target.is_finite() && margin.is_finite() && margin >= 0.0) {
+                return Err(format!(
+                    "`claim` has target {target} and margin {margin}: both finite, the margin >= 0"
+                ));
+            }
+            // absent (null) in the older format; stated, they must agree
+            let agrees = |stated: f64, x: f64| stated.is_nan() || same(stated, x);
+            if !agrees(published, target) || !agrees(tolerance, margin) {
+                return Err(format!(
+                    "`published` {published} and `tolerance` {tolerance} are not the claim's target {target} and margin {margin}"
+                ));
+            }
+        }
+        Some(Claim::Above { threshold }) | Some(Claim::Below { threshold })
+            if !threshold.is_finite() || !(tolerance.is_nan() || same(tolerance, threshold)) =>
+        {
+            return Err(format!(
+                "`claim` has threshold {threshold} and `tolerance` {tolerance}: a finite threshold, the same in both"
+            ));
+        }
+        Some(_) => {}
+    }
+    let k = match &c["sequential"] {
+        Value::Null => None,
+        Value::Object(q) => {
+            let boundary = q.get("boundary").and_then(Value::as_f64);
+            let look = q.get("look").and_then(Value::as_u64);
+            let looks: Option<Vec<u64>> = q
+                .get("looks")
+                .and_then(Value::as_array)
+                .and_then(|a| a.iter().map(Value::as_u64).collect());
+            let at = q.get("runs").and_then(Value::as_u64);
+            match (boundary, look, looks, at) {
+                (Some(b), Some(j), Some(ls), Some(n))
+                    if b.is_finite()
+                        && b > 0.0
+                        && j >= 1
+                        && ls.get(j as usize - 1).is_some_and(|&at| n <= at)
+                        && runs == Some(n) =>
+                {
+                    Some(b)
+                }
+                _ => {
+                    return Err(format!(
+                        "`sequential` is {}, not a design's stop: a boundary k > 0, a look j >= 1 of `looks`, and `runs` (at most the look's, fewer where runs were invalid) the check's runs",
+                        Value::Object(q.clone())
+                    ))
+                }
+            }
+        }
+        v => return Err(format!("`sequential` is {v}, not a design's stop")),
+    };
+    if let (Some(claim), Some(stated)) = (claim, verdict) {
+        let est = Estimate::new(measured, error, runs.unwrap_or(0) as usize);
+        let rule = match k {
+            Some(k) => crate::analysis::grading::grade_with(est, claim, k),
+            None => grade(est, claim),
+        };
+        if rule != stated {
+            return Err(format!(
+                "`verdict` is {} but the one rule gives {} for {measured} +- {error} over {} runs ({})",
+                stated.status(),
+                rule.status(),
+                runs.unwrap_or(0),
+                claim.describe()
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// The reason given for a metric without a value when the figure states none.
 pub const NO_VALUE: &str =
     "no value: the measurement is not finite (NaN or infinite), e.g. a mean over no qualifying run";
@@ -1075,6 +1206,52 @@ pub fn mean_sem_at<V: AsRef<[f64]>>(series: &[V], len: usize) -> (Vec<f64>, Vec<
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A written check is verified by the one rule: the check as written
+    /// passes, each hand edit that breaks a type, a range or the verdict
+    /// is named.
+    #[test]
+    fn written_checks_are_verified_by_the_one_rule() {
+        let c = Check::published(
+            "alpha",
+            "PH94 Fig. 2",
+            Estimate::new(1.30, 0.01, 128),
+            Claim::Within {
+                target: 1.33,
+                margin: 0.059,
+            },
+            "",
+        );
+        let good = serde_json::to_value(&c).unwrap();
+        assert_eq!(verify_check(&good), Ok(()));
+        let edited = |f: &dyn Fn(&mut serde_json::Value)| {
+            let mut v = good.clone();
+            f(&mut v);
+            verify_check(&v).unwrap_err()
+        };
+        let e = edited(&|v| {
+            v["verdict"] = "not-reproduced".into();
+            v["pass"] = false.into();
+        });
+        assert!(e.contains("the one rule gives reproduced"), "{e}");
+        let e = edited(&|v| v["measured"] = 1.20.into());
+        assert!(e.contains("gives not-reproduced"), "{e}");
+        assert!(edited(&|v| v["pass"] = false.into()).contains("`pass`"));
+        assert!(edited(&|v| v["runs"] = (-3).into()).contains("`runs`"));
+        assert!(edited(&|v| v["error"] = (-0.1).into()).contains("`error`"));
+        assert!(edited(&|v| v["tolerance"] = 0.5.into()).contains("`tolerance`"));
+        assert!(edited(&|v| v["claim"]["margin"] = (-1.0).into()).contains("margin"));
+        assert!(edited(&|v| v["sequential"] = 3.into()).contains("`sequential`"));
+        // a sequential stop grades with its own boundary: k = 4 leaves
+        // 1.30 +- 0.01 undecided (0.03 + 0.04 > 0.059)
+        let mut seq = good.clone();
+        seq["sequential"] = serde_json::json!({"spending": "obrien-fleming", "looks": [16, 128],
+            "alpha": 0.025, "look": 2, "runs": 128, "boundary": 4.0});
+        assert!(verify_check(&seq).unwrap_err().contains("gives undecided"));
+        seq["verdict"] = "undecided".into();
+        seq["pass"] = false.into();
+        assert_eq!(verify_check(&seq), Ok(()));
+    }
 
     /// The prefix up to the first deciding run, at every thread count.
     #[test]

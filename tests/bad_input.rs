@@ -4,6 +4,8 @@
 //! silent coercion or a NaN result. Each call returns in well under a
 //! second (nothing is computed).
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -712,18 +714,6 @@ fn validate_caps_the_length_of_a_candidate_line() {
     assert!(err.contains("bytes") && err.contains("its plan"), "{err}");
 }
 
-/// The processes whose command line contains `needle` (from /proc).
-fn processes_with(needle: &str) -> Vec<String> {
-    let Ok(dir) = std::fs::read_dir("/proc") else {
-        return vec![];
-    };
-    dir.flatten()
-        .filter_map(|e| std::fs::read(e.path().join("cmdline")).ok())
-        .map(|c| String::from_utf8_lossy(&c).replace('\0', " "))
-        .filter(|c| c.contains(needle) && !c.contains("validate"))
-        .collect()
-}
-
 /// SIGINT to `validate` stops the external candidate it is running (its
 /// own process group) before exiting: it used to be left running.
 #[test]
@@ -739,11 +729,11 @@ fn an_interrupted_validate_stops_its_candidate() {
         .spawn()
         .unwrap();
     let start = std::time::Instant::now();
-    while processes_with("sleep 37.25").is_empty() && start.elapsed().as_secs() < 20 {
+    while common::sleeps_with("37.25").is_empty() && start.elapsed().as_secs() < 20 {
         std::thread::sleep(std::time::Duration::from_millis(50));
     }
     assert!(
-        !processes_with("sleep 37.25").is_empty(),
+        !common::sleeps_with("37.25").is_empty(),
         "the candidate started"
     );
     let kill = Command::new("kill")
@@ -753,7 +743,7 @@ fn an_interrupted_validate_stops_its_candidate() {
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(130));
     std::thread::sleep(std::time::Duration::from_millis(200));
-    assert_eq!(processes_with("sleep 37.25"), Vec::<String>::new());
+    assert_eq!(common::sleeps_with("37.25"), Vec::<String>::new());
 }
 
 /// `report --no-run` over the committed hopper-fig3 summary after `edit`:
@@ -875,6 +865,16 @@ fn report_seed_sets_refuse_copies_and_mismatches() {
     let five = std::fs::read_to_string(from.join("seed-5/summary.json")).unwrap();
     let seed_sets = ["--seed-sets", sets.to_str().unwrap()];
     std::fs::write(extra.join("summary.json"), &five).unwrap();
+    // sealed as filed: the copy is refused for being a copy
+    let seal = |only: &[String]| {
+        granular_automata::drivers::acceptance_study::seal(
+            &sets.join("hopper-fig3"),
+            "hopper-fig3",
+            only,
+        )
+        .unwrap()
+    };
+    seal(&[]);
     let (_, all) = report_over_edited_summary("copied-set", &|t| t.to_string(), &seed_sets);
     assert!(
         all.contains("counts once") && all.contains("seed-99"),
@@ -884,6 +884,7 @@ fn report_seed_sets_refuse_copies_and_mismatches() {
     other["seeds"][0] = 7.into();
     other["tier"] = "paper".into();
     std::fs::write(extra.join("summary.json"), other.to_string()).unwrap();
+    seal(&["seed-99".into()]);
     let (_, all) = report_over_edited_summary("other-set-up", &|t| t.to_string(), &seed_sets);
     assert!(
         all.contains("share one set-up") && all.contains("tier paper"),

@@ -103,11 +103,12 @@ for s in $(seq "$first" "$last"); do
     read -r wall user sys <<< "$t"
     mkdir -p "$(dirname "$filed")"
     cp "$work/seed-$s/$fig/summary.json" "$filed"
+    target/release/acceptance seal --from "$docs" --figure "$fig" --seed-folder "seed-$s" > /dev/null
     echo "seed $s$again wall $wall s cpu $user+$sys s" >> "$docs/times.log"
     target/release/acceptance stability --from "$docs" --figure "$fig" > "$docs/stability.md"
     echo "seed $s: filed (wall $wall s, cpu $user+$sys s)"
     if [ $commit = 1 ]; then
-        git add "$filed" "$docs/times.log" "$docs/stability.md"
+        git add "$filed" "$docs/seals.tsv" "$docs/times.log" "$docs/stability.md"
         [ -z "$name" ] || git add "$docs/cut.txt"
         git commit -q -m "$label acceptance seed $s$again" ||
             echo "seed $s: git commit failed; the seed is filed, commit it by hand" >&2

@@ -16,7 +16,7 @@ use ga::{Error, ErrorKind};
 use granular_automata as ga;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
-use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -223,6 +223,12 @@ impl PyPipe {
     /// Advance `steps` steps without the GIL; Ctrl-C stops between blocks
     /// of 10000 steps.
     fn run(&mut self, py: Python<'_>, steps: u64) -> PyResult<()> {
+        if steps > ga::run::MAX_STEPS {
+            return Err(PyValueError::new_err(format!(
+                "steps = {steps}: at most {} in one call (every binary's cap, ga::run::MAX_STEPS)",
+                ga::run::MAX_STEPS
+            )));
+        }
         let mut left = steps;
         while left > 0 {
             let n = left.min(10_000);
@@ -606,6 +612,9 @@ fn fit_alpha(py: Python<'_>, spectrum: PyReadonlyArray1<f64>) -> PyResult<PyObje
 /// The one grading rule (`analysis::grading`): a mean with its SE over n
 /// runs against a claim, `within` (target, margin), `above` or `below` (a
 /// threshold). Returns `reproduced`, `not-reproduced` or `undecided`.
+/// Raises ValueError for what the rule cannot read: a mean, target or
+/// threshold that is not finite, an SE that is negative or not finite (NaN
+/// only for n = 1), n = 0, a margin that is negative or not finite.
 #[pyfunction]
 #[pyo3(signature = (mean, se, n, target=None, margin=None, above=None, below=None))]
 fn grade(
@@ -617,10 +626,45 @@ fn grade(
     above: Option<f64>,
     below: Option<f64>,
 ) -> PyResult<&'static str> {
+    // a value the rule cannot read is an error, never "undecided"
+    let finite = |name: &str, x: f64| -> PyResult<f64> {
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(PyValueError::new_err(format!(
+                "{name} = {x}: a finite number"
+            )))
+        }
+    };
+    finite("mean", mean)?;
+    // one run has no spread: its SE may be NaN (it grades as undecided)
+    let readable = (se.is_finite() && se >= 0.0) || (se.is_nan() && n == 1);
+    if !readable {
+        return Err(PyValueError::new_err(format!(
+            "se = {se}: a standard error, finite and >= 0 (NaN only for n = 1)"
+        )));
+    }
+    if n == 0 {
+        return Err(PyValueError::new_err(
+            "n = 0: the number of runs behind the mean, at least 1 (fewer than 3 grade as undecided)",
+        ));
+    }
     let claim = match (target, margin, above, below) {
-        (Some(target), Some(margin), None, None) => Claim::Within { target, margin },
-        (None, None, Some(threshold), None) => Claim::Above { threshold },
-        (None, None, None, Some(threshold)) => Claim::Below { threshold },
+        (Some(target), Some(margin), None, None) => {
+            finite("target", target)?;
+            if !(margin.is_finite() && margin >= 0.0) {
+                return Err(PyValueError::new_err(format!(
+                    "margin = {margin}: a finite number >= 0"
+                )));
+            }
+            Claim::Within { target, margin }
+        }
+        (None, None, Some(threshold), None) => Claim::Above {
+            threshold: finite("above", threshold)?,
+        },
+        (None, None, None, Some(threshold)) => Claim::Below {
+            threshold: finite("below", threshold)?,
+        },
         _ => {
             return Err(PyValueError::new_err(
                 "name one claim: target and margin, or above, or below",
@@ -669,6 +713,12 @@ impl PyCandidate {
             .factory
             .bind(py)
             .call1((params, plan.rules.as_str(), plan.seed))?;
+        if obj.is_none() || !obj.hasattr("step")? {
+            return Err(PyTypeError::new_err(format!(
+                "the candidate's factory(params, rules, seed) returned {}, not an engine object with step(), state(), set_state(), bin_counts(), channel_counts() and flux()",
+                obj.repr()?
+            )));
+        }
         let (w, l) = (plan.params.width, plan.params.length);
         if let Some(init) = &plan.init {
             let mut a = Array2::<u8>::zeros((w, l));
@@ -712,8 +762,14 @@ impl PyCandidate {
                 let mut v = Vec::new();
                 for x in 0..w {
                     for y in 0..l {
-                        if a[[x, y]] != 0 {
-                            v.push((x, y, a[[x, y]]));
+                        let state = a[[x, y]];
+                        if state > 0x7f {
+                            return Err(PyValueError::new_err(format!(
+                                "state() has {state} at site ({x}, {y}) after {t} steps: not a 7-bit site state (0..=127), as the contract asks (VALIDATION.md)"
+                            )));
+                        }
+                        if state != 0 {
+                            v.push((x, y, state));
                         }
                     }
                 }

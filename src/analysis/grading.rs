@@ -170,9 +170,19 @@ pub fn coverage_factor(n: usize) -> Option<f64> {
     if n < MIN_RUNS {
         return None;
     }
+    // t(0.975, df) falls with df and is below 2 from df = 61 on (1.99962):
+    // k = 2 there without evaluating t, whose cost grows with df (a check
+    // over 10^9 runs must not take seconds; tested below)
+    if n > FLOOR_DF {
+        return Some(2.0);
+    }
     let t = student_t_isf(0.025, n - 1).expect("n - 1 >= 2 degrees of freedom");
     Some(t.max(2.0))
 }
+
+/// The fewest degrees of freedom at which t(0.975, df) < 2, so that the
+/// coverage factor is the floor 2 from there on.
+pub const FLOOR_DF: usize = 61;
 
 /// A claim about one statistic, with its target or threshold fixed before
 /// measuring.
@@ -322,6 +332,36 @@ mod tests {
         assert!((coverage_factor(8).unwrap() - 2.365).abs() < 1e-3);
         assert_eq!(coverage_factor(200).unwrap(), 2.0);
         assert!(coverage_factor(2).is_none());
+    }
+
+    /// The shortcut k = 2 from FLOOR_DF degrees of freedom on is the
+    /// quantile's own value there, and the factor of any run count costs
+    /// no more than a few microseconds (it used to grow with the count:
+    /// seconds at 10^8 runs, a hang at 2^63).
+    #[test]
+    fn coverage_floor_is_exact_and_cheap() {
+        let t = |df| student_t_isf(0.025, df).unwrap();
+        assert!(t(FLOOR_DF - 1) > 2.0 && t(FLOOR_DF) < 2.0);
+        assert!(coverage_factor(FLOOR_DF).unwrap() > 2.0);
+        assert_eq!(coverage_factor(FLOOR_DF + 1), Some(2.0));
+        for df in [FLOOR_DF, 100, 1000, 10_000] {
+            assert!(t(df) < 2.0 && t(df) > 1.959, "df {df}");
+        }
+        let start = std::time::Instant::now();
+        for n in [1usize << 20, 1 << 40, 1 << 63, usize::MAX] {
+            assert_eq!(coverage_factor(n), Some(2.0));
+            assert_eq!(
+                grade(
+                    Estimate::new(1.0, 0.1, n),
+                    Claim::Within {
+                        target: 1.0,
+                        margin: 0.1
+                    }
+                ),
+                Verdict::Undecided
+            );
+        }
+        assert!(start.elapsed().as_millis() < 100, "{:?}", start.elapsed());
     }
 
     #[test]

@@ -249,6 +249,9 @@ pub enum Source {
         rows: Vec<Vec<f64>>,
         /// The spectra's frequencies m.
         m: usize,
+        /// Threads that run the trials (0: all cores); the counts do not
+        /// depend on it (each trial draws from its own generator).
+        threads: usize,
     },
 }
 
@@ -261,7 +264,7 @@ impl Source {
                 let e = Estimate::of(values);
                 e.se * (e.n as f64).sqrt()
             }
-            Source::Spectra { rows, m } => {
+            Source::Spectra { rows, m, .. } => {
                 alpha_of_mean_of(rows, *m).map_or(f64::NAN, |e| e.se * (e.n as f64).sqrt())
             }
         }
@@ -344,14 +347,14 @@ pub fn simulate_claim(
             ));
         }
     }
-    if let Source::Spectra { rows, m } = source {
+    if let Source::Spectra { rows, m, threads } = source {
         if !truth.is_finite() {
             return Err(Error::new(
                 ErrorKind::InvalidParameter,
                 format!("simulation: the truth {truth} must be finite"),
             ));
         }
-        return simulate_spectra(design, claim, truth, rows, *m, trials, seed);
+        return simulate_spectra(design, claim, truth, (rows, *m), trials, seed, *threads);
     }
     if !(truth.is_finite() && source.sd().is_finite() && source.sd() >= 0.0) {
         return Err(Error::new(
@@ -438,10 +441,10 @@ fn simulate_spectra(
     design: &Design,
     claim: Claim,
     truth: f64,
-    rows: &[Vec<f64>],
-    m: usize,
+    (rows, m): (&[Vec<f64>], usize),
     trials: usize,
     seed: u64,
+    threads: usize,
 ) -> Result<Simulated> {
     use rand::{RngExt, SeedableRng};
     let centre = alpha_of_mean_of(rows, m)?.mean;
@@ -472,9 +475,11 @@ fn simulate_spectra(
             stop.runs,
         ])
     };
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .clamp(1, trials.max(1));
+    let threads = match threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        t => t,
+    }
+    .clamp(1, trials.max(1));
     let parts: Vec<Result<[usize; 4]>> = std::thread::scope(|scope| {
         let handles: Vec<_> = (0..threads)
             .map(|t| {
@@ -561,7 +566,11 @@ mod tests {
                     .collect()
             })
             .collect();
-        let source = Source::Spectra { rows, m };
+        let source = Source::Spectra {
+            rows,
+            m,
+            threads: 0,
+        };
         assert!(source.sd().is_finite() && source.sd() > 0.0);
         let d = Design::new(vec![4, 8], 0.025, Spending::OBrienFleming).unwrap();
         let margin = 10.0 * source.sd();
@@ -574,6 +583,7 @@ mod tests {
         let few = Source::Spectra {
             rows: vec![vec![1.0; 200]; 2],
             m,
+            threads: 1,
         };
         assert!(simulate(&d, 1.0, 0.0, &few, 40, 1).is_err());
     }

@@ -311,6 +311,133 @@ pub fn power(summary: &std::path::Path) -> Result<(String, usize)> {
     Ok((out, pick))
 }
 
+/// The file of a figure's seed-set folder that holds each seed set's seal
+/// ([`seal_of`]): one line per summary, its path below the folder and its
+/// seal, separated by a tab.
+pub const SEALS: &str = "seals.tsv";
+
+/// The seal of a committed seed set's summary `s`: a 64-bit FNV-1a hash of
+/// its results (the set-up's names, seeds, metrics, and each check's value,
+/// SE, verdict, claim, runs and kind; [`results_of`]) as canonical JSON, in
+/// hex. An edit of any of them that does not also recompute the seal
+/// breaks it; it is a check of the filing, not a signature
+/// (docs/reference/grading.md, "Seed sets").
+pub fn seal_of(s: &serde_json::Value) -> String {
+    let text = serde_json::to_string(&results_of(s)).expect("a map of JSON values serialises");
+    format!("{:016x}", crate::ensemble::fnv1a64(text.as_bytes()))
+}
+
+/// The seals of `from` ([`SEALS`]): path below `from` -> seal; empty when
+/// the file does not exist.
+fn read_seals(from: &std::path::Path) -> Result<BTreeMap<String, String>> {
+    use crate::error::{Error, ErrorKind};
+    let path = from.join(SEALS);
+    let text = match std::fs::read_to_string(&path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(BTreeMap::new()),
+        Err(e) => {
+            return Err(Error::new(
+                ErrorKind::Io,
+                format!("{}: {e}", path.display()),
+            ))
+        }
+    };
+    text.lines()
+        .filter(|l| !l.trim().is_empty())
+        .enumerate()
+        .map(|(i, l)| match l.split_once('\t') {
+            Some((p, seal)) => Ok((p.to_string(), seal.trim().to_string())),
+            None => Err(Error::new(
+                ErrorKind::BadSeries,
+                format!("{} line {}: not PATH<TAB>SEAL", path.display(), i + 1),
+            )),
+        })
+        .collect()
+}
+
+/// The path of summary `path` below the seed-set folder `from`, with `/`.
+fn below(from: &std::path::Path, path: &std::path::Path) -> String {
+    path.strip_prefix(from)
+        .unwrap_or(path)
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect::<Vec<_>>()
+        .join("/")
+}
+
+/// Seal the seed sets of `figure` in `from` ([`SEALS`]): the summaries in
+/// seed folders named in `only` (e.g. `seed-5`), or every summary that has
+/// no seal yet when `only` is empty; the other seals are kept as they are.
+/// Each summary sealed must pass [`crate::run::verify_check`]. Returns the
+/// paths sealed.
+///
+/// Errors: as [`stability`], or a check that fails its verification.
+pub fn seal(from: &std::path::Path, figure: &str, only: &[String]) -> Result<Vec<String>> {
+    use crate::error::{Error, ErrorKind};
+    let mut seals = read_seals(from)?;
+    let mut sealed = vec![];
+    for path in seed_summaries(from, figure)? {
+        let rel = below(from, &path);
+        let folder = rel.split('/').next().unwrap_or("").to_string();
+        let wanted = if only.is_empty() {
+            !seals.contains_key(&rel)
+        } else {
+            only.contains(&folder)
+        };
+        if !wanted {
+            continue;
+        }
+        let s = read_summary(&path)?;
+        verify_summary(&path, &s)?;
+        seals.insert(rel.clone(), seal_of(&s));
+        sealed.push(rel);
+    }
+    if let Some(missing) = only.iter().find(|f| {
+        !sealed
+            .iter()
+            .any(|r| r.split('/').next() == Some(f.as_str()))
+    }) {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!(
+                "{}: no summary of {figure} in seed folder {missing}",
+                from.display()
+            ),
+        ));
+    }
+    let text: String = seals.iter().map(|(p, s)| format!("{p}\t{s}\n")).collect();
+    crate::run::write_atomic(&from.join(SEALS), text.as_bytes())?;
+    Ok(sealed)
+}
+
+/// Summary `path` as JSON.
+fn read_summary(path: &std::path::Path) -> Result<serde_json::Value> {
+    use crate::error::{Error, ErrorKind};
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", path.display())))?;
+    serde_json::from_str(&text)
+        .map_err(|e| Error::new(ErrorKind::BadSeries, format!("{}: {e}", path.display())))
+}
+
+/// Every check of summary `s` (read from `path`) verified by the one rule
+/// ([`crate::run::verify_check`]); the error names the file and the check.
+fn verify_summary(path: &std::path::Path, s: &serde_json::Value) -> Result<()> {
+    use crate::error::{Error, ErrorKind};
+    for c in s["checks"].as_array().into_iter().flatten() {
+        crate::run::verify_check(c).map_err(|e| {
+            Error::new(
+                ErrorKind::BadSeries,
+                format!(
+                    "{}: check {}: {e}",
+                    path.display(),
+                    c["name"].as_str().unwrap_or("?")
+                ),
+            )
+        })?;
+    }
+    Ok(())
+}
+
 /// The checks of `figure` over its seed folders ([`seed_checks`]).
 struct SeedChecks {
     /// The number of seed folders.
@@ -372,6 +499,7 @@ fn seed_summaries(from: &std::path::Path, figure: &str) -> Result<Vec<std::path:
 fn seed_checks(from: &std::path::Path, figure: &str) -> Result<SeedChecks> {
     use crate::error::{Error, ErrorKind};
     let dirs = seed_summaries(from, figure)?;
+    let seals = read_seals(from)?;
     // check -> [(verdict, value, se)]
     let mut rows: BTreeMap<String, Vec<(String, f64, f64)>> = BTreeMap::new();
     // check -> the claim of each seed (None: not a published claim)
@@ -379,10 +507,30 @@ fn seed_checks(from: &std::path::Path, figure: &str) -> Result<SeedChecks> {
     let mut seen: Vec<(std::path::PathBuf, serde_json::Value)> = vec![];
     let mut shared: Option<(std::path::PathBuf, String)> = None;
     for path in &dirs {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Error::new(ErrorKind::Io, format!("{}: {e}", path.display())))?;
-        let s: serde_json::Value = serde_json::from_str(&text)
-            .map_err(|e| Error::new(ErrorKind::BadSeries, format!("{}: {e}", path.display())))?;
+        let s = read_summary(path)?;
+        // each seed set graded by the one rule, and as filed (its seal)
+        verify_summary(path, &s)?;
+        let rel = below(from, path);
+        match seals.get(&rel) {
+            Some(seal) if *seal == seal_of(&s) => {}
+            Some(seal) => return Err(Error::new(
+                ErrorKind::BadSeries,
+                format!(
+                    "{}: its results do not match its seal {seal} in {}: the summary was changed after it was filed; refile it (docs/acceptance/run-seeds.sh --refile)",
+                    path.display(),
+                    from.join(SEALS).display()
+                ),
+            )),
+            None => return Err(Error::new(
+                ErrorKind::BadSeries,
+                format!(
+                    "{}: no seal in {}: a seed set is graded only as filed; seal it with `acceptance seal --from {} --figure {figure}`",
+                    path.display(),
+                    from.join(SEALS).display(),
+                    from.display()
+                ),
+            )),
+        }
         // every seed set has runs of its own, and all share one set-up
         let set_up = |s: &serde_json::Value| {
             let f = |k: &str| s[k].as_str().unwrap_or("unstated").to_string();
@@ -1131,9 +1279,9 @@ mod tests {
                  "error": 0.2, "claim": {"test": "above", "threshold": 0.0}},
                 // not a published claim, or a claim the seeds do not agree on: left out
                 {"name": "pinned", "kind": "pinned", "verdict": "reproduced", "measured": x,
-                 "error": 0.01, "claim": {"test": "above", "threshold": 0.0}},
+                 "error": 0.01, "runs": 10, "claim": {"test": "above", "threshold": 0.0}},
                 {"name": "moving", "kind": "published", "verdict": "reproduced", "measured": x,
-                 "error": 0.01, "claim": {"test": "above", "threshold": x - 1.0}},
+                 "error": 0.01, "runs": 10, "claim": {"test": "above", "threshold": x - 1.0}},
             ]});
             std::fs::write(d.join("summary.json"), s.to_string()).unwrap();
         };
@@ -1148,6 +1296,10 @@ mod tests {
         )
         .unwrap();
         std::fs::create_dir_all(dir.join("empty")).unwrap();
+        // unsealed seed sets are refused, naming the file; sealed, they count
+        let e = stability(&dir, "fig2").unwrap_err().to_string();
+        assert!(e.contains("seed-1/fig2/summary.json: no seal"), "{e}");
+        assert_eq!(seal(&dir, "fig2", &[]).unwrap().len(), 4);
         let t = stability(&dir, "fig2").unwrap();
         assert!(t.contains("4 base seeds"), "{t}");
         assert!(t.contains("| alpha | 4 | 1 | 0 | 3 | 0.75 |"), "{t}");
@@ -1183,6 +1335,7 @@ mod tests {
             one.join("seed-1/summary.json"),
         )
         .unwrap();
+        seal(&one, "fig2", &[]).unwrap();
         let t1 = stability(&one, "fig2").unwrap();
         assert!(
             t1.contains("| alpha | 1 | 1.2650 +- n/a (no spread of one seed) | 1.33 +- 0.0590 | undecided |"),

@@ -79,6 +79,10 @@ fn committed(dir: &Path, column: &str, check: &str) -> Result<(Vec<f64>, f64)> {
 }
 
 /// The margin of check `check` in `dir/summary.json`.
+/// The largest margin a committed check may state (alpha and v are of
+/// order one; the acceptance margins are below 0.2).
+const MAX_MARGIN: f64 = 1.0;
+
 fn committed_margin(dir: &Path, check: &str) -> Result<f64> {
     let bad = |what: String| Error::new(ErrorKind::Io, format!("{}: {what}", dir.display()));
     let summary: serde_json::Value = std::fs::read_to_string(dir.join("summary.json"))
@@ -90,6 +94,13 @@ fn committed_margin(dir: &Path, check: &str) -> Result<f64> {
         .and_then(|cs| cs.iter().find(|c| c["name"] == check))
         .and_then(|c| c["tolerance"].as_f64())
         .ok_or_else(|| bad(format!("summary.json has no check {check} with a margin")))?;
+    // a margin of alpha or v: refused at once when it cannot be one, before
+    // any trial is simulated
+    if !(margin > 0.0 && margin <= MAX_MARGIN) {
+        return Err(bad(format!(
+            "summary.json: check {check} has the margin {margin}, outside the allowed range (0, {MAX_MARGIN}]"
+        )));
+    }
     Ok(margin)
 }
 
@@ -159,6 +170,16 @@ fn saved_spectra(suite: &Path, fig: &str) -> Result<(Vec<Vec<f64>>, usize)> {
         if m == 0 {
             m = spectrum.len();
         }
+        if let Some((j, x)) = spectrum
+            .iter()
+            .enumerate()
+            .find(|(_, x)| !(x.is_finite() && **x > 0.0))
+        {
+            return Err(bad(format!(
+                "{}: spectrum bin {j} is {x}, not a finite power > 0",
+                path.display()
+            )));
+        }
         if spectrum.len() != m || m == 0 {
             return Err(bad(format!(
                 "{}: a spectrum of {} frequencies among spectra of {m}",
@@ -168,6 +189,13 @@ fn saved_spectra(suite: &Path, fig: &str) -> Result<(Vec<Vec<f64>>, usize)> {
         }
         rows.push(spectrum[..alpha_prefix(m)].to_vec());
     }
+    if rows.len() < 3 {
+        return Err(bad(format!(
+            "{}: {} run files (run-*.json); the estimator's bootstrap needs at least 3",
+            folder.display(),
+            rows.len()
+        )));
+    }
     Ok((rows, m))
 }
 
@@ -175,7 +203,7 @@ fn saved_spectra(suite: &Path, fig: &str) -> Result<(Vec<Vec<f64>>, usize)> {
 /// spectra of PH94 Fig. 2 and PH95 Fig. 6 under `suite`, resampled, each
 /// look grading alpha of their averaged spectrum with its bootstrap SE;
 /// margins from the summaries beside them.
-pub fn spectra_cases(suite: &Path) -> Result<Vec<Case>> {
+pub fn spectra_cases(suite: &Path, threads: usize) -> Result<Vec<Case>> {
     let mut out = Vec::new();
     for (fig, name) in [
         ("fig2", "PH94 Fig. 2 alpha"),
@@ -184,7 +212,7 @@ pub fn spectra_cases(suite: &Path) -> Result<Vec<Case>> {
         let (rows, m) = saved_spectra(suite, fig)?;
         let n = rows.len();
         let margin = committed_margin(&suite.join(fig), "alpha")?;
-        let source = Source::Spectra { rows, m };
+        let source = Source::Spectra { rows, m, threads };
         out.push(Case {
             name: format!(
                 "{name} of the averaged spectrum, {n} runs resampled (sd {:.2} margins)",

@@ -4,7 +4,7 @@
 
 use super::mutate::mutate;
 use super::{excerpt, Case, Rng, TempDir, Verdict};
-use crate::drivers::acceptance_study::all_seeds;
+use crate::drivers::acceptance_study::{all_seeds, seal};
 use crate::error::Result;
 use crate::report::{read_figure, FigureRun, Row};
 use rand::RngExt;
@@ -21,23 +21,40 @@ fn summary(rng: &mut Rng, seeds: &[u64], tier: &str) -> Value {
         if rng.random_bool(0.2) {
             continue;
         }
+        use crate::analysis::grading::{grade, Claim, Estimate};
         let kind = ["published", "pinned", "identity"][rng.random_range(0..3)];
-        let verdict = ["reproduced", "not-reproduced", "undecided"][rng.random_range(0..3)];
         let claim = match rng.random_range(0..3) {
-            0 => json!({"test": "within", "target": 1.33, "margin": 0.059}),
-            1 => json!({"test": "above", "threshold": 0.45}),
-            _ => json!({"test": "below", "threshold": 2.0}),
+            0 => Claim::Within {
+                target: 1.33,
+                margin: 0.059,
+            },
+            1 => Claim::Above { threshold: 0.45 },
+            _ => Claim::Below { threshold: 2.0 },
         };
+        let (published, tolerance) = match claim {
+            Claim::Within { target, margin } => (json!(target), json!(margin)),
+            Claim::Above { threshold } | Claim::Below { threshold } => {
+                (Value::Null, json!(threshold))
+            }
+        };
+        let (measured, error, runs) = (
+            rng.random_range(0.0..2.0),
+            rng.random_range(0.0..0.1),
+            rng.random_range(1..200u64),
+        );
+        // the verdict the one rule gives, as a figure writes it (the report
+        // recomputes it)
+        let verdict = grade(Estimate::new(measured, error, runs as usize), claim).status();
         checks.push(json!({
             "name": name,
             "kind": kind,
             "verdict": verdict,
             "pass": verdict == "reproduced",
-            "measured": rng.random_range(0.0..2.0),
-            "error": rng.random_range(0.0..0.1),
-            "published": 1.33,
-            "tolerance": 0.059,
-            "runs": rng.random_range(1..200u64),
+            "measured": measured,
+            "error": error,
+            "published": published,
+            "tolerance": tolerance,
+            "runs": runs,
             "claim": claim,
             "note": "a note",
             "source": "PH94 Fig. 2",
@@ -179,16 +196,24 @@ impl Case for SeedSets {
             _ => (mutate(rng, &self.sound[k]), false),
         };
         self.last = bad.clone();
+        // the sound seed sets filed and sealed, then seed set k replaced
+        // by the bad one (its seal that of the sound one)
         for (i, s) in self.sound.iter().enumerate() {
             let path = self.path(i);
-            let bytes = if i == k { &bad } else { s };
             let written = path
                 .parent()
                 .map_or(Ok(()), fs::create_dir_all)
-                .and_then(|()| fs::write(&path, bytes));
+                .and_then(|()| fs::write(&path, s));
             if let Err(e) = written {
                 return Verdict::Silent(format!("the fuzzer cannot write: {e}"));
             }
+        }
+        let folders: Vec<String> = (0..SETS).map(|i| format!("seed-{i}")).collect();
+        if let Err(e) = seal(self.dir.path(), FIGURE, &folders) {
+            return Verdict::Silent(format!("the fuzzer cannot seal sound seed sets: {e}"));
+        }
+        if let Err(e) = fs::write(self.path(k), &bad) {
+            return Verdict::Silent(format!("the fuzzer cannot write: {e}"));
         }
         match all_seeds(self.dir.path(), FIGURE) {
             Err(_) => Verdict::Refused,

@@ -106,6 +106,16 @@ impl Default for Params {
     }
 }
 
+/// Whether a W x L pipe with its wall and halo rows, (W + 2)(L + 2) sites,
+/// fits the engines' 32-bit site index.
+fn fits(width: usize, length: usize) -> bool {
+    width
+        .checked_add(2)
+        .zip(length.checked_add(2))
+        .and_then(|(w, l)| w.checked_mul(l))
+        .is_some_and(|n| n <= u32::MAX as usize)
+}
+
 impl Params {
     /// Check every parameter against its allowed range (MODEL.md A8).
     pub fn validate(&self) -> Result<()> {
@@ -121,7 +131,7 @@ impl Params {
                         format!(
                             "rho = {} is outside the allowed range ({lo}, {hi}) (open interval: moving particles per site, \
                              6 channels; rho = 0 is an empty pipe, rho = 6 a full one that cannot move); choose rho in ({lo}, {hi})",
-                            self.rho
+                            crate::error::num(self.rho)
                         ),
                     ));
                 }
@@ -134,31 +144,7 @@ impl Params {
         if let Boundary::Open { inject } = self.boundary {
             check_unit("I (injection)", inject)?;
         }
-        if self.length % self.bin != 0 {
-            // the nearest lengths that fit: multiples of the bin, at least 2 bins
-            let lo = self.length / self.bin * self.bin;
-            let near: Vec<String> = [lo, lo + self.bin]
-                .iter()
-                .filter(|&&l| l >= 2 * self.bin)
-                .map(|l| l.to_string())
-                .collect();
-            return Err(Error::new(
-                ErrorKind::InvalidParameter,
-                format!(
-                    "L = {} is not a multiple of bin = {}; choose L = {} (a multiple of the bin, at least 2 bins)",
-                    self.length,
-                    self.bin,
-                    near.join(" or ")
-                ),
-            ));
-        }
-        if self
-            .width
-            .checked_add(2)
-            .zip(self.length.checked_add(2))
-            .and_then(|(w, l)| w.checked_mul(l))
-            .is_none_or(|n| n > u32::MAX as usize)
-        {
+        if !fits(self.width, self.length) {
             // the exact product (no wrap-around) in the message
             // the sites with the wall and halo rows: (W + 2)(L + 2), exact
             return Err(Error::out_of_range(
@@ -170,6 +156,29 @@ impl Params {
                     (self.width as u128 + 2) * (self.length as u128 + 2)
                 ),
                 &format!("[9, {}]", u32::MAX),
+            ));
+        }
+        if self.length % self.bin != 0 {
+            // the nearest lengths that fit: multiples of the bin, at least 2
+            // bins, within the size bound (checked first, above)
+            let lo = self.length / self.bin * self.bin;
+            let near: Vec<String> = [lo, lo + self.bin]
+                .iter()
+                .filter(|&&l| l >= 2 * self.bin && fits(self.width, l))
+                .map(|l| l.to_string())
+                .collect();
+            let near = match near.is_empty() {
+                true => format!("{} or another multiple of it", 2 * self.bin),
+                false => near.join(" or "),
+            };
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!(
+                    "L = {} is not a multiple of bin = {}; choose L = {} (a multiple of the bin, at least 2 bins)",
+                    self.length,
+                    self.bin,
+                    near
+                ),
             ));
         }
         Ok(())

@@ -186,7 +186,10 @@ impl Probability {
         } else {
             Err(Error::new(
                 ErrorKind::InvalidParameter,
-                format!("rules: lane-collide probability q = {q} is outside [0, 1]"),
+                format!(
+                    "rules: lane-collide probability q = {} is outside [0, 1]",
+                    crate::error::num(q)
+                ),
             ))
         }
     }
@@ -371,7 +374,7 @@ impl fmt::Display for Rules {
         let mut parts = vec![self.gravity.name()];
         parts.extend(SWITCHES.iter().filter(|s| (s.1)(self)).map(|s| s.0));
         let q = match self.lane_collide {
-            LaneCollide::At(q) => format!("+lane-collide:{}", q.get()),
+            LaneCollide::At(q) => format!("+lane-collide:{}", crate::error::num(q.get())),
             _ => String::new(),
         };
         write!(f, "{}{q}", parts.join("+"))

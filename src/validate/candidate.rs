@@ -210,14 +210,31 @@ pub fn default_time_limit(plan: &RunPlan) -> Duration {
 /// The process groups of the external candidates running now, so that an
 /// interrupted `validate` stops them too ([`running::kill_all`]).
 pub mod running {
-    use std::collections::BTreeSet;
+    use std::collections::BTreeMap;
     use std::sync::Mutex;
 
-    static GROUPS: Mutex<BTreeSet<u32>> = Mutex::new(BTreeSet::new());
+    /// A running candidate: the pipes it was given and its start time.
+    #[derive(Clone)]
+    struct Group {
+        pipes: Vec<String>,
+        since: u64,
+    }
 
-    /// A candidate's process group started.
-    pub fn add(pid: u32) {
-        GROUPS.lock().unwrap_or_else(|e| e.into_inner()).insert(pid);
+    /// Each running candidate's process group.
+    static GROUPS: Mutex<BTreeMap<u32, Group>> = Mutex::new(BTreeMap::new());
+
+    /// Held while a candidate starts and while one is stopped: a process
+    /// being started holds copies of the other runs' pipes until its `exec`
+    /// closes them, and must not be taken for their holder.
+    pub static SPAWN: Mutex<()> = Mutex::new(());
+
+    /// A candidate's process group started, with its pipes ([`pipe_id`]).
+    pub fn add(pid: u32, pipes: Vec<String>) {
+        let since = stat(pid).map_or(0, |s| s.1);
+        GROUPS
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(pid, Group { pipes, since });
     }
 
     /// It ended (or was stopped).
@@ -228,9 +245,9 @@ pub mod running {
             .remove(&pid);
     }
 
-    /// On SIGINT or SIGTERM, stop every running candidate's process group,
-    /// then exit with status 130 (a candidate runs in a group of its own,
-    /// which the terminal's interrupt does not reach).
+    /// On SIGINT or SIGTERM, stop every running candidate ([`stop`]), then
+    /// exit with status 130 (a candidate runs in a group of its own, which
+    /// the terminal's interrupt does not reach).
     pub fn stop_on_interrupt() {
         let _ = ctrlc::set_handler(|| {
             kill_all();
@@ -238,43 +255,118 @@ pub mod running {
         });
     }
 
-    /// Stop every running candidate's process group (SIGKILL to the group).
+    /// Stop every running candidate ([`stop`]).
     pub fn kill_all() {
         let groups = GROUPS.lock().unwrap_or_else(|e| e.into_inner()).clone();
-        for pid in groups {
+        for (pid, g) in groups {
+            stop(pid, &g.pipes);
+        }
+    }
+
+    /// Stop a candidate started as process group `pid` with `pipes`: SIGKILL
+    /// to every process of the group (`sh` and what it started) and to
+    /// every other process that still holds one of its pipes: a child that
+    /// left the group (a daemon, `setsid`) and would keep its output open,
+    /// so that reading it never ends. Only processes started since the
+    /// candidate (by /proc's start time) are looked at, and nothing is
+    /// sent when none is left. Where /proc does not exist, the group alone
+    /// is stopped.
+    pub fn stop(pid: u32, pipes: &[String]) {
+        let _spawning = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
+        let victims = match std::fs::read_dir("/proc") {
+            Ok(procs) => {
+                let since = GROUPS
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .get(&pid)
+                    .map_or(0, |g| g.since);
+                let me = std::process::id();
+                procs
+                    .flatten()
+                    .filter_map(|e| e.file_name().to_str()?.parse::<u32>().ok())
+                    .filter(|&p| p != me)
+                    .filter_map(|p| Some((p, stat(p)?)))
+                    .filter(|&(_, (_, start))| start >= since)
+                    .filter(|&(p, (group, _))| group == pid || holds(p, pipes))
+                    .map(|(p, _)| p.to_string())
+                    .collect()
+            }
+            Err(_) => vec![format!("-{pid}")],
+        };
+        if !victims.is_empty() {
             let _ = std::process::Command::new("kill")
-                .args(["-KILL", "--", &format!("-{pid}")])
+                .arg("-KILL")
+                .arg("--")
+                .args(victims)
+                .stderr(std::process::Stdio::null())
                 .status();
         }
+    }
+
+    /// The process group and start time (clock ticks since boot) of
+    /// process `pid`, from /proc/PID/stat.
+    pub fn stat(pid: u32) -> Option<(u32, u64)> {
+        let text = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+        // the fields after the command name, which may hold spaces: state,
+        // ppid, pgrp, ..., starttime (the 22nd field of the line)
+        let rest: Vec<&str> = text
+            .get(text.rfind(')')? + 1..)?
+            .split_whitespace()
+            .collect();
+        Some((rest.get(2)?.parse().ok()?, rest.get(19)?.parse().ok()?))
+    }
+
+    /// The pipe behind this process's file descriptor `fd` (`pipe:[INODE]`),
+    /// or `None` where /proc does not show one.
+    pub fn pipe_id(fd: i32) -> Option<String> {
+        let link = std::fs::read_link(format!("/proc/self/fd/{fd}")).ok()?;
+        let link = link.to_string_lossy().into_owned();
+        link.starts_with("pipe:").then_some(link)
+    }
+
+    /// Whether process `pid` holds one of `pipes` open.
+    fn holds(pid: u32, pipes: &[String]) -> bool {
+        !pipes.is_empty()
+            && std::fs::read_dir(format!("/proc/{pid}/fd"))
+                .into_iter()
+                .flatten()
+                .flatten()
+                .filter_map(|fd| std::fs::read_link(fd.path()).ok())
+                .any(|l| pipes.iter().any(|p| l.as_os_str() == p.as_str()))
     }
 }
 
 /// Read all of `r` in a thread of its own (a program's stdout or stderr,
-/// so that a full pipe never blocks it).
-fn read_all<R: Read + Send + 'static>(mut r: R) -> std::thread::JoinHandle<Vec<u8>> {
+/// so that a full pipe never blocks it); what was read arrives on the
+/// returned channel at end of file.
+fn read_all<R: Read + Send + 'static>(mut r: R) -> std::sync::mpsc::Receiver<Vec<u8>> {
+    let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
         let mut v = Vec::new();
         let _ = r.read_to_end(&mut v);
-        v
-    })
+        let _ = tx.send(v);
+    });
+    rx
 }
 
 /// Read at most `cap` bytes of `r` in a thread of its own; past the cap it
 /// sends the byte count on `over` (so the program can be stopped) and
-/// reads no more. Returns what was read.
+/// reads no more. What was read arrives on the returned channel.
 fn read_capped<R: Read + Send + 'static>(
     r: R,
     cap: u64,
     over: std::sync::mpsc::Sender<()>,
-) -> std::thread::JoinHandle<Vec<u8>> {
+) -> std::sync::mpsc::Receiver<Vec<u8>> {
+    let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
         let mut v = Vec::new();
         let _ = r.take(cap + 1).read_to_end(&mut v);
         if v.len() as u64 > cap {
             let _ = over.send(());
         }
-        v
-    })
+        let _ = tx.send(v);
+    });
+    rx
 }
 
 impl Candidate for External {
@@ -368,6 +460,7 @@ impl External {
         if let Some(first) = self.stalled.get() {
             return Err(external_error(&self.command, first));
         }
+        let spawning = running::SPAWN.lock().unwrap_or_else(|e| e.into_inner());
         let mut child = Command::new("sh")
             .arg("-c")
             .arg(format!("{} \"$@\"", self.command))
@@ -381,63 +474,84 @@ impl External {
             .process_group(0) // so that a stopped run takes its children with it
             .spawn()
             .map_err(|e| external_error(&self.command, &format!("cannot start: {e}")))?;
+        drop(spawning);
+        // its three pipes: whoever still holds one when the run ends is
+        // stopped with it (a child it forked, also one that left its group)
+        let pipes: Vec<String> = {
+            use std::os::fd::AsRawFd;
+            [
+                child.stdin.as_ref().map(|p| p.as_raw_fd()),
+                child.stdout.as_ref().map(|p| p.as_raw_fd()),
+                child.stderr.as_ref().map(|p| p.as_raw_fd()),
+            ]
+            .into_iter()
+            .flatten()
+            .filter_map(running::pipe_id)
+            .collect()
+        };
         // a program that exits without reading the plan closes the pipe
         // (EPIPE): what it printed says more than "Broken pipe"
         let mut stdin = child.stdin.take().expect("stdin is piped");
-        let writer = std::thread::spawn(move || stdin.write_all(json.as_bytes()));
+        let (sent_tx, sent_rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || sent_tx.send(stdin.write_all(json.as_bytes())));
         let cap = (max_lines + 2).saturating_mul(max_line as u64 + 1);
         let (over_tx, over_rx) = std::sync::mpsc::channel();
         let stdout = read_capped(child.stdout.take().expect("stdout is piped"), cap, over_tx);
         let stderr = read_all(child.stderr.take().expect("stderr is piped"));
         // wait in a thread of its own, so that the limit needs no polling
         let pid = child.id();
-        running::add(pid);
+        running::add(pid, pipes.clone());
         let (tx, rx) = std::sync::mpsc::channel();
         std::thread::spawn(move || tx.send(child.wait()));
-        let kill = || {
-            let _ = Command::new("kill")
-                .args(["-KILL", "--", &format!("-{pid}")])
-                .status();
-        };
+        let stop = || running::stop(pid, &pipes);
         let deadline = std::time::Instant::now() + limit;
+        let left = || deadline.saturating_duration_since(std::time::Instant::now());
         let waited = loop {
-            let left = deadline.saturating_duration_since(std::time::Instant::now());
-            match rx.recv_timeout(left.min(Duration::from_millis(50))) {
+            match rx.recv_timeout(left().min(Duration::from_millis(50))) {
                 Ok(done) => break Some(done),
                 Err(_) if over_rx.try_recv().is_ok() => {
-                    kill();
+                    stop();
                     running::remove(pid);
                     return Err(self.broke(&format!(
                         "printed more than {cap} bytes, more than its plan asks for ({max_lines} lines of at most {max_line} bytes), and was stopped: {}",
                         what()
                     )));
                 }
-                Err(_) if left.is_zero() => break None,
+                Err(_) if left().is_zero() => break None,
                 Err(_) => {}
             }
         };
+        // whatever it left running (a child in the background, a daemon
+        // holding its output) ends with the run, at the limit or before
+        stop();
         running::remove(pid);
+        let timed_out = || {
+            let what = format!(
+                "did not finish its run within the time limit of {} s and was stopped: {} (set the limit with --run-timeout)",
+                limit.as_secs_f64(),
+                what()
+            );
+            let _ = self.stalled.set(what.clone());
+            external_error(&self.command, &what)
+        };
         let status = match waited {
             Some(done) => {
                 done.map_err(|e| external_error(&self.command, &format!("did not finish: {e}")))?
             }
-            None => {
-                // the whole process group: `sh` and what it started
-                kill();
-                let what = format!(
-                    "did not finish its run within the time limit of {} s and was stopped: {} (set the limit with --run-timeout)",
-                    limit.as_secs_f64(),
-                    what()
-                );
-                let _ = self.stalled.set(what.clone());
-                return Err(external_error(&self.command, &what));
-            }
+            None => return Err(timed_out()),
         };
-        let sent = writer.join().expect("the plan writer does not panic");
+        // the pipes close once their holders are stopped; never wait on
+        // them past the limit (a holder /proc does not show)
+        let grace = || left().max(Duration::from_millis(500));
+        let (Ok(stdout), Ok(stderr)) = (stdout.recv_timeout(grace()), stderr.recv_timeout(grace()))
+        else {
+            return Err(timed_out());
+        };
+        let sent = sent_rx.recv_timeout(grace()).unwrap_or(Ok(()));
         let out = std::process::Output {
             status,
-            stdout: stdout.join().expect("the stdout reader does not panic"),
-            stderr: stderr.join().expect("the stderr reader does not panic"),
+            stdout,
+            stderr,
         };
         if out.stdout.len() as u64 > cap {
             return Err(self.broke(&format!(
@@ -577,7 +691,13 @@ pub fn check_identity(bins: &[f64], channels: &[u64; 7]) -> std::result::Result<
             "has bin {k} = {v}, not a whole number of particles"
         ));
     }
-    let (in_bins, in_channels) = (bins.iter().sum::<f64>(), channels.iter().sum::<u64>());
+    // summed without wrap-around: counts past 2^64 are refused, not folded
+    let Some(in_channels) = channels.iter().try_fold(0u64, |a, &c| a.checked_add(c)) else {
+        return Err(format!(
+            "has channel counts {channels:?} whose sum overflows 64 bits: no pipe holds so many particles"
+        ));
+    };
+    let in_bins = bins.iter().sum::<f64>();
     if in_bins != in_channels as f64 {
         return Err(format!(
             "has bins summing to {in_bins} particles but channel counts summing to {in_channels}: the bins must hold every particle"

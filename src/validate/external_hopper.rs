@@ -421,12 +421,43 @@ impl Proxy {
 
     /// Take the end of a run: the state (checked: same size, walls and plug
     /// where they were, valid grains, finite spacings) and the counters.
-    fn end(&mut self, line: &str) -> Result<()> {
+    /// The run asked for `iterations` iterations: exactly so many (a
+    /// `steps` run) or at most so many (a `fill`, `exact` false); the
+    /// counters must fit what so many iterations can do, and the totals
+    /// must not overflow.
+    fn end(&mut self, line: &str, iterations: u64, exact: bool) -> Result<()> {
         let end = read_end(&self.geometry, line).map_err(|why| self.bad(why))?;
+        let asked = if exact { "exactly" } else { "at most" };
+        if (exact && end.iterations != iterations) || end.iterations > iterations {
+            return Err(self.bad(format!(
+                "printed an end line with iterations = {}, where its plan asks for {asked} {iterations}",
+                end.iterations
+            )));
+        }
+        // each iteration adds at most a row of grains and lets out at most
+        // the outlet's: never more than the sites
+        let most = (self.state.sites.len() as u64).saturating_mul(end.iterations.saturating_add(1));
+        for (name, v) in [("added", end.added), ("removed", end.removed)] {
+            if v > most {
+                return Err(self.bad(format!(
+                    "printed an end line with {name} = {v}, more than {most} (the sites times the iterations + 1) can be"
+                )));
+            }
+        }
+        let sum = |a: u64, b: u64, name: &str| {
+            a.checked_add(b).ok_or_else(|| {
+                self.bad(format!(
+                    "printed counts whose total {name} overflows 64 bits"
+                ))
+            })
+        };
+        let (added, removed, iteration) = (
+            sum(self.added, end.added, "added")?,
+            sum(self.removed, end.removed, "removed")?,
+            sum(self.iteration, end.iterations, "iterations")?,
+        );
         self.state = end.state;
-        self.added += end.added;
-        self.removed += end.removed;
-        self.iteration += end.iterations;
+        (self.added, self.removed, self.iteration) = (added, removed, iteration);
         self.work += end.site_updates;
         Ok(())
     }
@@ -447,7 +478,7 @@ impl Proxy {
                 Ok((s.report, s.moving))
             })
             .collect::<Result<Vec<_>>>()?;
-        self.end(&lines[n as usize])?;
+        self.end(&lines[n as usize], n, true)?;
         Ok(out)
     }
 
@@ -508,7 +539,7 @@ impl HopperEngine for Proxy {
             .and_then(|lines| match lines.as_slice() {
                 [end] => {
                     let before = self.iteration;
-                    self.end(end)?;
+                    self.end(end, max_iterations + max_settle, false)?;
                     Ok(self.iteration - before)
                 }
                 _ => Err(self.bad(format!(

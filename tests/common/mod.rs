@@ -17,6 +17,19 @@ pub fn fresh_dir(name: &str) -> PathBuf {
     d
 }
 
+/// The `sleep` processes whose command line contains `needle` (from
+/// /proc): what a test's external candidate started, to show it stopped.
+pub fn sleeps_with(needle: &str) -> Vec<String> {
+    let Ok(dir) = std::fs::read_dir("/proc") else {
+        return vec![];
+    };
+    dir.flatten()
+        .filter_map(|e| std::fs::read(e.path().join("cmdline")).ok())
+        .map(|c| String::from_utf8_lossy(&c).replace('\0', " "))
+        .filter(|c| c.starts_with("sleep") && c.contains(needle))
+        .collect()
+}
+
 /// Run `exe` with `args`; assert that it fails and that its standard error
 /// contains `needle` (a bad input names its value).
 pub fn fails_with<I, A>(exe: &str, args: I, needle: &str)
