@@ -580,10 +580,18 @@ mod tests {
     }
 
     /// The committed seed sets hold the fixed design: run-seeds.sh gives
-    /// the figures that grade sequentially their fixed count.
+    /// the figures that grade sequentially their fixed count. The script is
+    /// in the repository, not in the published crate: outside a checkout
+    /// the test says so and checks nothing.
     #[test]
     fn the_seed_set_script_runs_each_sequential_figure_at_its_fixed_count() {
-        let script = include_str!("../../docs/acceptance/run-seeds.sh");
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let path = root.join("docs/acceptance/run-seeds.sh");
+        if !path.exists() && !root.join(".git").exists() {
+            eprintln!("skipped: {} is in the repository only", path.display());
+            return;
+        }
+        let script = std::fs::read_to_string(&path).unwrap();
         assert!(script.contains(
             "fig2|waves-fig6|waves-fig8|waves-fig9|waves-fig10) extra=(--fixed-runs 128"
         ));
