@@ -1,7 +1,7 @@
 //! Acceptance at the published set-ups (`--tier acceptance`, MODEL.md A10): the
 //! margins and the run counts, fixed in code before the acceptance runs.
 //! The estimators live in [`crate::analysis::mean_spectrum`]; the pilot
-//! and stability studies that chose them in [`super::acceptance_study`].
+//! and stability studies that chose them in [`crate::drivers::acceptance_study`].
 //!
 //! # Estimators (chosen on pilot seeds, EXPERIMENTS.md "Acceptance")
 //!
@@ -27,7 +27,7 @@
 //!   paper leaves open (window, segment reading, width of the removed peak;
 //!   the fit range 40 <= f <= 1000 is stated in PH94 and not varied),
 //!   measured on the pilot's runs
-//!   ([`super::acceptance_study::open_choices`]);
+//!   ([`crate::drivers::acceptance_study::open_choices`]);
 //! - u_digits is half a unit of the last digit the paper quotes, when it
 //!   gives no error bar;
 //! - threshold is used only where the paper gives no number ("white",

@@ -1,5 +1,5 @@
 //! The reproduction matrix's procedure (`pipe-matrix`, MODEL.md A11):
-//! grade every reading against the claims of [`super::claims`], each
+//! grade every reading against the claims of [`crate::drivers::claims`], each
 //! reading saved once graded and reused, then the matrix as Markdown, CSV,
 //! a heat map, the default reading's checks and the list of cells.
 
