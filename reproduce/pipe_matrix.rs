@@ -3,7 +3,8 @@
 //! (PH94 Figs. 1-2, PH95 Figs. 3-12 and III F; `drivers::claims::CLAIMS` lists each
 //! with its published value, statistic and margin), with the measured value
 //! and its error beside each grade. Each finished reading is saved at once
-//! (`variants/<reading>.json`) and reused when the same command is run again.
+//! (`variants/<reading>.<key>.json`, a portable file name:
+//! `Matrix::saved`) and reused when the same command is run again.
 //!
 //! `cargo run --release --bin pipe-matrix -- --tier quick`
 

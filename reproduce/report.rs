@@ -57,7 +57,7 @@ struct Args {
     /// already in --out (e.g. a published copy's folders).
     #[arg(long)]
     no_run: bool,
-    /// Committed seed sets, DIR/<binary>/<seed folder>/ or a cut's DIR/<name>/
+    /// Committed seed sets, DIR/BINARY/SEED-FOLDER/ or a cut's DIR/NAME/
     /// with cut.txt (e.g. docs/acceptance): the published checks are graded
     /// over every seed set of a figure (or cut) that has at least 20, where
     /// its run here equals its committed twin (same seeds) result for result.

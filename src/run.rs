@@ -1154,6 +1154,49 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     Ok(())
 }
 
+/// Characters Windows refuses in a file name, and that `cargo package`
+/// refuses in a packaged path.
+const NOT_PORTABLE: [char; 9] = ['<', '>', ':', '"', '/', '\\', '|', '?', '*'];
+
+/// Names Windows reserves for devices, whatever the extension (`NUL.json`).
+const RESERVED: [&str; 22] = [
+    "CON", "PRN", "AUX", "NUL", "COM1", "COM2", "COM3", "COM4", "COM5", "COM6", "COM7", "COM8",
+    "COM9", "LPT1", "LPT2", "LPT3", "LPT4", "LPT5", "LPT6", "LPT7", "LPT8", "LPT9",
+];
+
+/// `name` as a file name every system and `cargo package` accept: each
+/// character Windows refuses (`< > : " / \ | ? *` and control characters)
+/// becomes `_`, as do trailing dots and spaces; a reserved device name
+/// (`CON`, `NUL`, `COM1`, ... with or without an extension) gets a leading
+/// `_`; an empty name becomes `_`. A portable name is returned unchanged,
+/// so rule readings (`default+lane-collide:0.1` ->
+/// `default+lane-collide_0.1`) name their saved files the same way on
+/// every system.
+pub fn portable_file_name(name: &str) -> String {
+    let mut out: String = name
+        .chars()
+        .map(|c| match NOT_PORTABLE.contains(&c) || c.is_control() {
+            true => '_',
+            false => c,
+        })
+        .collect();
+    let kept = out.trim_end_matches(['.', ' ']).len();
+    let trailing = out.len() - kept;
+    out.truncate(kept);
+    out.extend(std::iter::repeat_n('_', trailing));
+    let stem = out.split('.').next().unwrap_or_default();
+    if out.is_empty() || RESERVED.iter().any(|r| r.eq_ignore_ascii_case(stem)) {
+        out.insert(0, '_');
+    }
+    out
+}
+
+/// Whether `name` is a file name every system accepts: it is its own
+/// [`portable_file_name`].
+pub fn is_portable_file_name(name: &str) -> bool {
+    portable_file_name(name) == name
+}
+
 pub use crate::analysis::stats::mean_sem;
 
 /// The difference a - b of two (value, standard error) pairs, with the
@@ -1251,6 +1294,42 @@ mod tests {
         seq["verdict"] = "undecided".into();
         seq["pass"] = false.into();
         assert_eq!(verify_check(&seq), Ok(()));
+    }
+
+    #[test]
+    fn a_portable_file_name_replaces_what_windows_refuses() {
+        let p = portable_file_name;
+        assert_eq!(
+            p("ph94+inject-late+lane-collide:0.001.standard-seed1.json"),
+            "ph94+inject-late+lane-collide_0.001.standard-seed1.json"
+        );
+        assert_eq!(p(r#"a<b>c:d"e/f\g|h?i*j"#), "a_b_c_d_e_f_g_h_i_j");
+        assert_eq!(p("tab\there\n"), "tab_here_");
+        assert_eq!(p("ends with dots.."), "ends with dots__");
+        assert_eq!(p("ends with a space "), "ends with a space_");
+        assert_eq!(p("."), "_");
+        assert_eq!(p(""), "_");
+        for reserved in ["CON", "nul", "Aux.json", "com1.tar.gz", "LPT9"] {
+            assert_eq!(p(reserved), format!("_{reserved}"), "{reserved}");
+        }
+        // names that only look reserved are kept
+        for kept in [
+            "CONSOLE",
+            "null.json",
+            "com10",
+            "my-nul",
+            "a.con",
+            "fig2.png",
+        ] {
+            assert_eq!(p(kept), kept);
+            assert!(is_portable_file_name(kept));
+        }
+        assert!(!is_portable_file_name("lane-collide:0.1"));
+        // the portable name is portable, and kept as it is
+        for name in ["a:b.", "NUL", "x?*", " . "] {
+            let once = p(name);
+            assert!(is_portable_file_name(&once), "{name} -> {once}");
+        }
     }
 
     /// The prefix up to the first deciding run, at every thread count.

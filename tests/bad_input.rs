@@ -448,20 +448,20 @@ fn merge_rejects_foreign_runs_and_empty_or_file_shards() {
     );
 }
 
-/// A copy of the committed report's `hopper-fig3` folder in a fresh `R/`.
-fn report_folder_with_hopper_fig3(name: &str) -> PathBuf {
+/// A copy of the committed report's `hopper-fig3` folder in a fresh `R/`;
+/// `None` outside a checkout of the repository (the report is not
+/// published with the crate).
+fn report_folder_with_hopper_fig3(name: &str) -> Option<PathBuf> {
+    let from = common::in_repository("docs/report/hopper-fig3")?;
     let r = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&r);
-    let (from, to) = (
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/report/hopper-fig3"),
-        r.join("hopper-fig3"),
-    );
+    let to = r.join("hopper-fig3");
     std::fs::create_dir_all(&to).unwrap();
     for e in std::fs::read_dir(&from).unwrap() {
         let e = e.unwrap();
         std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
     }
-    r
+    Some(r)
 }
 
 /// `report --publish` into its own `--out` (or inside it) is refused before
@@ -470,7 +470,9 @@ fn report_folder_with_hopper_fig3(name: &str) -> PathBuf {
 #[test]
 fn report_refuses_to_publish_into_its_own_out_and_deletes_nothing() {
     let report = env!("CARGO_BIN_EXE_report");
-    let r = report_folder_with_hopper_fig3("publish-into-out");
+    let Some(r) = report_folder_with_hopper_fig3("publish-into-out") else {
+        return;
+    };
     let files = |d: &PathBuf| std::fs::read_dir(d).unwrap().count();
     let before = files(&r.join("hopper-fig3"));
     for publish in [r.clone(), r.join("copy"), r.join("hopper-fig3")] {
@@ -509,7 +511,9 @@ fn report_refuses_to_publish_into_its_own_out_and_deletes_nothing() {
 #[test]
 fn report_publish_keeps_what_it_did_not_write() {
     let report = env!("CARGO_BIN_EXE_report");
-    let r = report_folder_with_hopper_fig3("publish-foreign-file");
+    let Some(r) = report_folder_with_hopper_fig3("publish-foreign-file") else {
+        return;
+    };
     let dest = r.with_file_name("publish-foreign-file-dest");
     let _ = std::fs::remove_dir_all(&dest);
     std::fs::create_dir_all(dest.join("hopper-fig3")).unwrap();
@@ -752,8 +756,8 @@ fn report_over_edited_summary(
     tag: &str,
     edit: &dyn Fn(&str) -> String,
     extra: &[&str],
-) -> (i32, String) {
-    let r = report_folder_with_hopper_fig3(&format!("malformed-{tag}"));
+) -> Option<(i32, String)> {
+    let r = report_folder_with_hopper_fig3(&format!("malformed-{tag}"))?;
     let path = r.join("hopper-fig3/summary.json");
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::write(&path, edit(&text)).unwrap();
@@ -769,7 +773,7 @@ fn report_over_edited_summary(
         String::from_utf8_lossy(&o.stdout),
         String::from_utf8_lossy(&o.stderr)
     );
-    (o.status.code().unwrap_or(-1), all)
+    Some((o.status.code().unwrap_or(-1), all))
 }
 
 /// A summary.json that is truncated, empty, not JSON (NaN, 1e999), has no
@@ -834,14 +838,16 @@ fn report_refuses_malformed_summaries() {
         ),
     ];
     for (tag, edit, want) in cases {
-        let (code, all) = report_over_edited_summary(tag, &*edit, &[]);
+        let Some((code, all)) = report_over_edited_summary(tag, &*edit, &[]) else {
+            return;
+        };
         assert_eq!(code, 1, "{tag}: {all}");
         assert!(
             all.contains(want) && all.contains("hopper-fig3"),
             "{tag}: {want:?} not in {all}"
         );
     }
-    let (code, all) = report_over_edited_summary("unedited", &|t| t.to_string(), &[]);
+    let (code, all) = report_over_edited_summary("unedited", &|t| t.to_string(), &[]).unwrap();
     assert_eq!(code, 0, "{all}");
 }
 
@@ -851,7 +857,9 @@ fn report_refuses_malformed_summaries() {
 fn report_seed_sets_refuse_copies_and_mismatches() {
     let sets = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("seed-set-copies");
     let _ = std::fs::remove_dir_all(&sets);
-    let from = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/acceptance/hopper-fig3");
+    let Some(from) = common::in_repository("docs/acceptance/hopper-fig3") else {
+        return;
+    };
     for e in std::fs::read_dir(&from).unwrap().flatten() {
         if !e.path().join("summary.json").is_file() {
             continue;
@@ -875,7 +883,8 @@ fn report_seed_sets_refuse_copies_and_mismatches() {
         .unwrap()
     };
     seal(&[]);
-    let (_, all) = report_over_edited_summary("copied-set", &|t| t.to_string(), &seed_sets);
+    let (_, all) =
+        report_over_edited_summary("copied-set", &|t| t.to_string(), &seed_sets).unwrap();
     assert!(
         all.contains("counts once") && all.contains("seed-99"),
         "{all}"
@@ -885,7 +894,8 @@ fn report_seed_sets_refuse_copies_and_mismatches() {
     other["tier"] = "paper".into();
     std::fs::write(extra.join("summary.json"), other.to_string()).unwrap();
     seal(&["seed-99".into()]);
-    let (_, all) = report_over_edited_summary("other-set-up", &|t| t.to_string(), &seed_sets);
+    let (_, all) =
+        report_over_edited_summary("other-set-up", &|t| t.to_string(), &seed_sets).unwrap();
     assert!(
         all.contains("share one set-up") && all.contains("tier paper"),
         "{all}"
@@ -1248,7 +1258,9 @@ fn help_offers_no_shard_where_it_is_refused() {
 /// it runs the same command.
 #[test]
 fn report_quotes_its_regenerate_line_and_reads_quoted_args() {
-    let r = report_folder_with_hopper_fig3("quoted-args");
+    let Some(r) = report_folder_with_hopper_fig3("quoted-args") else {
+        return;
+    };
     let o = Command::new(env!("CARGO_BIN_EXE_report"))
         .args(["--no-run", "--only", "hopper-fig3", "--tier", "acceptance"])
         .args(["--args-for", "hopper-fig3=--cases 'beta0'"])

@@ -1,7 +1,7 @@
 //! Acceptance at the published set-ups (`--tier acceptance`, MODEL.md A10): the
 //! margins and the run counts, fixed in code before the acceptance runs.
 //! The estimators live in [`crate::analysis::mean_spectrum`]; the pilot
-//! and stability studies that chose them in [`super::acceptance_study`].
+//! and stability studies that chose them in [`crate::drivers::acceptance_study`].
 //!
 //! # Estimators (chosen on pilot seeds, EXPERIMENTS.md "Acceptance")
 //!
@@ -27,7 +27,7 @@
 //!   paper leaves open (window, segment reading, width of the removed peak;
 //!   the fit range 40 <= f <= 1000 is stated in PH94 and not varied),
 //!   measured on the pilot's runs
-//!   ([`super::acceptance_study::open_choices`]);
+//!   ([`crate::drivers::acceptance_study::open_choices`]);
 //! - u_digits is half a unit of the last digit the paper quotes, when it
 //!   gives no error bar;
 //! - threshold is used only where the paper gives no number ("white",
@@ -580,10 +580,18 @@ mod tests {
     }
 
     /// The committed seed sets hold the fixed design: run-seeds.sh gives
-    /// the figures that grade sequentially their fixed count.
+    /// the figures that grade sequentially their fixed count. The script is
+    /// in the repository, not in the published crate: outside a checkout
+    /// the test says so and checks nothing.
     #[test]
     fn the_seed_set_script_runs_each_sequential_figure_at_its_fixed_count() {
-        let script = include_str!("../../docs/acceptance/run-seeds.sh");
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let path = root.join("docs/acceptance/run-seeds.sh");
+        if !path.exists() && !root.join(".git").exists() {
+            eprintln!("skipped: {} is in the repository only", path.display());
+            return;
+        }
+        let script = std::fs::read_to_string(&path).unwrap();
         assert!(script.contains(
             "fig2|waves-fig6|waves-fig8|waves-fig9|waves-fig10) extra=(--fixed-runs 128"
         ));

@@ -766,7 +766,7 @@ pub fn is_sequential(s: &serde_json::Value) -> bool {
 }
 
 /// Whether `summary` (a figure's summary.json, as read) is one of the
-/// committed seed sets of `figure` in `from` ([`seed_summaries`]): the
+/// committed seed sets of `figure` in `from` (`seed_summaries`): the
 /// committed seed set with the same `seeds` and tier, compared result by
 /// result over the results both have ([`Twin`]; a run of more `--cases`
 /// than the committed one has more checks, each case seeing the same
@@ -777,7 +777,7 @@ pub fn is_sequential(s: &serde_json::Value) -> bool {
 /// A summary graded sequentially ([`is_sequential`]) ran the first runs of
 /// the committed seed set's: its seeds are theirs or the first of theirs,
 /// and it is compared by runs, on the checks that ran as many runs as the
-/// committed ones ([`sequential_results_of`]).
+/// committed ones (`sequential_results_of`).
 ///
 /// Errors: as [`stability`].
 pub fn committed_twin(

@@ -1,10 +1,10 @@
 //! PH94 Fig. 1, density bands in a periodic pipe, over an ensemble of runs
 //! (`fig1`): run r is the four panels ((a) p = 0.1; (b) p = 0; (c) (b)
-//! continued with p = 0.1; (d) b = 0; [`fig1_panels`]) for one seed, with
+//! continued with p = 0.1; (d) b = 0; [`fig1_panels`](crate::pipe::record::fig1_panels)) for one seed, with
 //! the band statistics of MODEL.md A11 over their late halves; the metrics
 //! and the checks of the published (qualitative) claims from them, and the
 //! space-time plots of run 0. Also the snapshots of PH95 Fig. 2a
-//! ([`draw_snapshots`]).
+//! ([`draw_snapshots`](crate::drivers::bands::draw_snapshots)).
 
 use super::claims::WAVE_THRESHOLD;
 use crate::analysis::grading::{Claim, Estimate};

@@ -1,7 +1,7 @@
 //! The calibrated bridge between the lane and the gas (READINGS.md P23,
 //! `lane-collide:q`): the plan of
 //! docs/notebook/2026-12-07-calibrated-bridge-plan.md as code. The 39
-//! claims of the reproduction matrix ([`super::claims::CLAIMS`]) are sorted
+//! claims of the reproduction matrix ([`crate::drivers::claims::CLAIMS`]) are sorted
 //! into three kinds by what they assert, split into a calibration half and a
 //! test half by a fixed rule, q is picked from a grid on the calibration half
 //! alone, and the decision rule compares the picked reading with the
@@ -32,7 +32,7 @@ pub enum Kind {
     Other,
 }
 
-/// The kind of every claim of [`CLAIMS`], by the words of [`Kind`].
+/// The kind of every claim of [`CLAIMS`](crate::drivers::claims::CLAIMS), by the words of [`Kind`].
 pub const KINDS: [(&str, Kind); 39] = [
     ("waves_1a", Kind::Waves),
     ("none_p0", Kind::Gas),

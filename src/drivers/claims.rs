@@ -59,7 +59,7 @@ pub struct Graded {
     /// What was measured, in words and numbers.
     pub detail: String,
     /// Runs behind the value: the run count of the claim's group
-    /// ([`Group::runs`]); 0 in rows saved before it was recorded.
+    /// (`Group::runs`); 0 in rows saved before it was recorded.
     #[serde(default)]
     pub runs: usize,
 }
@@ -224,7 +224,7 @@ pub const WAVE_THRESHOLD: f64 = 2.0;
 
 /// Version of the grading rules; caches of graded readings carry it, so a
 /// change of rule never mixes with old verdicts. 1: the first rule ("|d| <= 2
-/// sqrt(SE^2 + e^2)"), 2: the equivalence test [`equivalent`] with 2 SE,
+/// sqrt(SE^2 + e^2)"), 2: the equivalence test `equivalent` with 2 SE,
 /// 3: the one rule of [`crate::analysis::grading`] (k = max(2, t(0.975, n-1))
 /// SE, fewer than 3 runs undecided); 4: the same rule, 28 claims instead of
 /// 11; 5: a censored I_c (no rate up to 1 clogs) can no longer reproduce

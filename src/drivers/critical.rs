@@ -3,7 +3,7 @@
 //! trend test of N(t) at every pipe size, N(t) below, near and above I_c,
 //! the rates of the bottom-bin spectra, the figure's checks and its panels.
 //! The checks it shares with the reproduction matrix are in
-//! [`super::open_pipe`].
+//! [`crate::drivers::open_pipe`].
 
 use super::margins::ALPHA_MARGIN;
 use super::open_pipe::{

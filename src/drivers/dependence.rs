@@ -1,8 +1,8 @@
 //! The published claims of PH95 III F-H (Figs. 8-10; Fig. 8's in
-//! [`fig8_checks`]): how the exponent
+//! [`fig8_checks`](crate::drivers::dependence::fig8_checks)): how the exponent
 //! alpha and the wave speed v depend on the mean density rho, the wall
 //! roughness b and gravity g. `waves-fig9`, `waves-fig10` and the
-//! reproduction matrix ([`super::claims`]) grade them through these
+//! reproduction matrix ([`crate::drivers::claims`]) grade them through these
 //! functions, so the figure and the matrix cannot disagree.
 //!
 //! Values and margins were fixed on 2026-12-04, before any reading was
@@ -14,8 +14,8 @@
 //!
 //! Every claim is a list of checks that must all hold; a check needs its
 //! points, and a claim whose points were not swept is left out (the figure
-//! binaries sweep by tier; the matrix sweeps [`FIG9_RHO`], [`FIG10_B`],
-//! [`FIG10_G`] and [`G_LOW`]).
+//! binaries sweep by tier; the matrix sweeps [`FIG9_RHO`](crate::drivers::dependence::FIG9_RHO), [`FIG10_B`](crate::drivers::dependence::FIG10_B),
+//! [`FIG10_G`](crate::drivers::dependence::FIG10_G) and [`G_LOW`](crate::drivers::dependence::G_LOW)).
 
 use super::margins::{ALPHA_MARGIN, V_SAME_MARGIN};
 use super::sweep::{alpha_check, same_as_check, PointResult, Quantity};

@@ -3,9 +3,9 @@
 //! plot of run 0, (b) the two-point correlation C(R, T) (MODEL.md A9) with
 //! its peak T_c and speed v = R bin / T_c, and the metrics and checks of the
 //! published rate I = 0.5 (clogging, the speed, the onset of the rise) and
-//! of the stationary rate [`I_CORR`]. The set-ups, the per-run record and
+//! of the stationary rate [`I_CORR`](crate::drivers::fig11::I_CORR). The set-ups, the per-run record and
 //! the graded claims shared with the reproduction matrix are
-//! [`super::open_pipe`]'s.
+//! [`crate::drivers::open_pipe`]'s.
 
 use super::open_pipe::{
     corr_onset, corr_run, corr_speed, fig11_pipe, fig11_speed_check, flows_check, CorrRun,

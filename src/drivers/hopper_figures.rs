@@ -1,6 +1,6 @@
 //! The hopper figures of BB90 from their runs: Fig. 2 (filling and
-//! emptying; [`Fig2Runs`]) and Fig. 3 (the outflow and its spectrum;
-//! [`fig3_readings`], [`draw_fig3`]). Per figure its metrics, the checks of
+//! emptying; [`Fig2Runs`](crate::drivers::hopper_figures::Fig2Runs)) and Fig. 3 (the outflow and its spectrum;
+//! [`fig3_readings`](crate::drivers::hopper_figures::fig3_readings), [`draw_fig3`](crate::drivers::hopper_figures::draw_fig3)). Per figure its metrics, the checks of
 //! its claims with their thresholds and margins (fixed before
 //! measuring; HOPPER_READINGS.md lists the claims) and its charts, for every
 //! case (reading of "aligned", MODEL.md B4, B6). The runs themselves are

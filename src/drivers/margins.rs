@@ -1,9 +1,9 @@
 //! The margins Delta of the pipe's published claims that the reproduction
-//! matrix ([`super::claims`]), the sweeps ([`super::sweep`]) and the figure
+//! matrix ([`crate::drivers::claims`]), the sweeps ([`crate::drivers::sweep`]) and the figure
 //! binaries share, each fixed before measuring. They live below all of
 //! them, so none imports another for a constant. The margins of
 //! the acceptance tier, with their derivations, are in
-//! [`super::acceptance::MARGINS`].
+//! [`crate::drivers::acceptance::MARGINS`].
 
 /// Agreement margin Delta of the alpha claims ("alpha near 4/3", "white
 /// noise, alpha about 0"): |alpha - target| <= 0.1, a third of the way from

@@ -1,5 +1,5 @@
 //! The reproduction matrix's procedure (`pipe-matrix`, MODEL.md A11):
-//! grade every reading against the claims of [`super::claims`], each
+//! grade every reading against the claims of [`crate::drivers::claims`], each
 //! reading saved once graded and reused, then the matrix as Markdown, CSV,
 //! a heat map, the default reading's checks and the list of cells.
 
@@ -10,7 +10,7 @@ use crate::analysis::grading::Kind;
 use crate::error::{Error, ErrorKind, Result};
 use crate::pipe::{Engine, Rules};
 use crate::plot::{plot_err, register_fonts, FONT};
-use crate::run::{progress, write_atomic, Check, Output, Tier};
+use crate::run::{portable_file_name, progress, write_atomic, Check, Output, Tier};
 use plotters::prelude::*;
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -61,18 +61,26 @@ impl Matrix<'_> {
         )
     }
 
+    /// The file in `cache` that holds the saved grade of `rules`:
+    /// `READING.KEY.json` ([`Matrix::key`]), made portable by
+    /// [`portable_file_name`] (`lane-collide:0.1` is saved as
+    /// `lane-collide_0.1`).
+    pub fn saved(&self, cache: &Path, rules: Rules) -> std::path::PathBuf {
+        cache.join(portable_file_name(&format!("{rules}.{}.json", self.key())))
+    }
+
     /// Grade each reading, reading a saved grade from `cache` when there is
-    /// one and saving each new one as soon as it is graded; a progress bar
-    /// counts the steps.
+    /// one and saving each new one as soon as it is graded (in
+    /// [`Matrix::saved`]); a progress bar counts the steps.
     pub fn grade(&self, readings: &[Rules], cache: &Path) -> Result<Vec<Row>> {
-        let (size, key) = (self.size, self.key());
+        let size = self.size;
         let pb = progress(
             readings.len() as u64 * grade_steps(size),
             "pipe-matrix steps",
         );
         let mut rows = Vec::new();
         for &rules in readings {
-            let file = cache.join(format!("{rules}.{key}.json"));
+            let file = self.saved(cache, rules);
             let graded: Vec<Graded> = match std::fs::read_to_string(&file) {
                 Ok(text) => {
                     pb.inc(grade_steps(size));

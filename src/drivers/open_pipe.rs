@@ -1,6 +1,6 @@
 //! The open pipe's published claims (PH95 Sec. III I, Figs. 11-12), shared
 //! by `waves-fig11`, `waves-fig12` and the reproduction matrix
-//! ([`super::claims`]): the set-ups, one run's correlation record, the wave
+//! ([`crate::drivers::claims`]): the set-ups, one run's correlation record, the wave
 //! speed from the peak of C(R, T), the trend test of N(t) over an ensemble
 //! of runs, and the checks graded by the one rule.
 

@@ -1,7 +1,7 @@
 //! The steady-state density fields of PH95 Figs. 4 and 5 read over an
 //! ensemble of runs: the wave profile at several pipe lengths (Fig. 4, from
-//! the [`ProfileRun`]s of `pipe::overlap::profile_run`) and the real-space
-//! and spectral wave speeds (Fig. 5, from the [`SpeedRun`]s), each with its
+//! the [`ProfileRun`](crate::pipe::overlap::ProfileRun)s of `pipe::overlap::profile_run`) and the real-space
+//! and spectral wave speeds (Fig. 5, from the [`SpeedRun`](crate::pipe::overlap::SpeedRun)s), each with its
 //! metrics, its checks and its charts. Used by `waves-fig4` and
 //! `waves-fig5`; the per-run measurements are [`crate::pipe::overlap`]'s.
 

@@ -1,7 +1,7 @@
 //! PH95 Fig. 7's checks (`waves-fig7`): white noise (alpha about 0) at
 //! p = 0 and at b = 0, and at b = 0 a spectral line at v = 1/2 exactly; at
 //! the acceptance tier with the estimators and margins of
-//! [`super::acceptance`].
+//! [`crate::drivers::acceptance`].
 
 use super::acceptance::margin;
 use super::margins::ALPHA_MARGIN;

@@ -37,7 +37,7 @@ pub trait Draws {
     }
     /// [`Draws::chance`] for an uncertain outcome, 0 < t < 2^32.
     fn uncertain(&mut self, t: u64) -> bool;
-    /// An index k with probability (c[k] - c[k-1]) / 2^32 for the increasing
+    /// An index k with probability (c\[k\] - c\[k-1\]) / 2^32 for the increasing
     /// cumulative thresholds `c` (the last index takes what is left).
     fn pick(&mut self, cumulative: &[u64]) -> usize;
     /// A fair coin.

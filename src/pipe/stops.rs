@@ -11,7 +11,7 @@
 //! collisions, since the rest particles' lifetime turned out to set the
 //! p-dependence, and the holes above a rest particle and the
 //! counts per column. It observes the run through
-//! [`super::order`] and cannot change it.
+//! `super::order` and cannot change it.
 
 use super::collision::{bit, Rule, MOVERS, REST_BIT};
 use super::order::{step_observed, Stage};

@@ -10,6 +10,25 @@ use std::ffi::OsStr;
 use std::path::PathBuf;
 use std::process::Command;
 
+/// The repository's file or folder `rel` (under docs/: the committed
+/// report and seed sets, which the published crate leaves out): `Some` where
+/// it is; in a checkout of the repository (a `.git` beside Cargo.toml) it
+/// must be there. `None` outside a checkout, saying what is skipped.
+pub fn in_repository(rel: &str) -> Option<PathBuf> {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let path = root.join(rel);
+    if path.exists() {
+        return Some(path);
+    }
+    assert!(
+        !root.join(".git").exists(),
+        "{rel} is missing from the checkout {}",
+        root.display()
+    );
+    eprintln!("skipped: {rel} is in the repository only, not in the published crate");
+    None
+}
+
 /// The folder `name` of the test target directory, emptied first.
 pub fn fresh_dir(name: &str) -> PathBuf {
     let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
