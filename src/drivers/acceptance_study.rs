@@ -318,7 +318,8 @@ pub const SEALS: &str = "seals.tsv";
 
 /// The seal of a committed seed set's summary `s`: a 64-bit FNV-1a hash of
 /// its results (the set-up's names, seeds, metrics, and each check's value,
-/// SE, verdict, claim, runs and kind; [`results_of`]) as canonical JSON, in
+/// SE, verdict, claim, runs and kind: the results two runs of the same
+/// seeds share) as canonical JSON, in
 /// hex. An edit of any of them that does not also recompute the seal
 /// breaks it; it is a check of the filing, not a signature
 /// (docs/reference/grading.md, "Seed sets").
