@@ -730,8 +730,8 @@ impl<R: Rng + Clone + Send> PipeEngine for FastPipe<R> {
 /// Builds [`FastPipe`] runs: the engine `fast` of `validate` and the figures.
 /// Every rule reading of [`Rules`] is supported (all four gravity
 /// wordings, `wall-drag`, `gravity-first`, `gravity-last`, `rest-up`,
-/// `wall-move`, `rest-slide`, `fhp-rest`), so `build` fails only on invalid
-/// parameters or an invalid reading.
+/// `wall-move`, `rest-slide`, `fhp-rest`, `literal-labels`, `wall-sites`),
+/// so `build` fails only on invalid parameters or an invalid reading.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Fast;
 
