@@ -4,14 +4,19 @@
 //! command line that produced them.
 //!
 //! `cargo run --release --bin explore -- --rules any-mover --p 0.1 --length 2200`
+//!
+//! `--mechanism`: instead, PH95 Fig. 5's record at `--tier` (as `waves-fig5`)
+//! read for what moves and what stands (`pipe::mechanism`), a CSV table:
+//! `explore -- --mechanism --length 512 --bin 8 --p 0.1 --runs 8`
 
 use clap::Parser;
 use granular_automata::cli::{check_populated, check_steps, parse_runs, PipeRules};
+use granular_automata::pipe::mechanism::table;
 use granular_automata::pipe::record::{bands, record};
 use granular_automata::pipe::stops::count_stops;
 use granular_automata::pipe::Engine;
 use granular_automata::pipe::Params;
-use granular_automata::run::{derive_seed, ensemble};
+use granular_automata::run::{derive_seed, ensemble, Tier};
 
 #[derive(Parser)]
 #[command(about = "Band statistics of single pipe runs (rule search, MODEL.md A11)")]
@@ -33,6 +38,9 @@ struct Args {
     /// Pipe length L.
     #[arg(long, default_value_t = 2200, allow_negative_numbers = true)]
     length: usize,
+    /// Rows per bin.
+    #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
+    bin: usize,
     /// Pipe width W.
     #[arg(long, default_value_t = 11, allow_negative_numbers = true)]
     width: usize,
@@ -49,6 +57,12 @@ struct Args {
     /// over the second half of each run (`pipe::stops`, reference engine).
     #[arg(long)]
     stops: bool,
+    /// Instead: the mechanism table of `pipe::mechanism` (fields as waves-fig5 at --tier).
+    #[arg(long)]
+    mechanism: bool,
+    /// Tier of --mechanism's record.
+    #[arg(long, value_enum, default_value_t = Tier::Quick)]
+    tier: Tier,
 }
 
 granular_automata::main_of!(body);
@@ -56,7 +70,7 @@ granular_automata::main_of!(body);
 fn body() -> Result<(), Box<dyn std::error::Error>> {
     let a = Args::parse();
     let rules = a.rules.parse()?;
-    let engine = a.rules.engine(granular_automata::run::Tier::Quick)?;
+    let engine = a.rules.engine(a.tier)?;
     let params = Params {
         length: a.length,
         width: a.width,
@@ -64,10 +78,15 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
         p: a.p,
         g: a.g,
         b: a.b,
+        bin: a.bin,
         ..Params::default()
     };
     params.validate()?;
     check_populated(&params)?;
+    if a.mechanism {
+        print!("{}", table(params, rules, engine, a.tier, a.runs, a.seed)?);
+        return Ok(());
+    }
     // band statistics: the second half of the samples, one every 80 steps;
     // --stops: the second half of the steps
     let min_steps = if a.stops { 2 } else { 160 };

@@ -141,7 +141,8 @@ fn run(args: &Args, setup: Setup) -> Result<bool, Box<dyn std::error::Error>> {
         println!("{}", Repeat { name, plan }.run(cand.as_ref(), &out, n)?);
         return Ok(true);
     }
-    let pb = progress(validate::jobs(levels, model, tier, size), "validate");
+    let jobs = validate::jobs(levels, model, tier, size, args.rules.parse()?);
+    let pb = progress(jobs, "validate");
     let report = validate::validate(cand.as_ref(), &plan, &|| pb.inc(1))?;
     pb.finish_and_clear();
     validate::write_report(&report, &out)?;

@@ -55,7 +55,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     spec.validate()?;
     // "analysis": bump when the per-run computation changes, so stale run
     // files are not reused (ensemble resume)
-    let key = json!({"analysis": 2, "params": params, "rules": rules.to_string(), "engine": engine, "fields": fields, "warmup": warmup, "T0": T0, "max_lag": MAX_LAG});
+    let key = json!({"analysis": 3, "params": params, "rules": rules.to_string(), "engine": engine, "fields": fields, "warmup": warmup, "T0": T0, "max_lag": MAX_LAG});
     let ens = c.ensemble(fig.binary, &key, runs)?;
     let outcome = ens.run(steady.steps(), |_, seed, tick| {
         let n = steady.record(params, rules, engine, seed, tick)?;

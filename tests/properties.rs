@@ -96,6 +96,7 @@ fn rules() -> impl Strategy<Value = Rules> {
                 (true, true) => LaneCollide::AtP,
                 (true, false) => LaneCollide::At(Probability::new(q).unwrap()),
             },
+            ..Rules::MODEL_MD
         }
     })
 }

@@ -113,6 +113,19 @@ fn the_fast_engine_passes_level_1_for_the_new_readings() {
     assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
 }
 
+/// The fast engine passes level 1 for `literal-labels` (READINGS.md P1)
+/// with `wall-sites` (P12): the collision table in velocities, and the wall
+/// sites, whose probes keep only the states a wall site can hold (the
+/// probes of W < 3 are left out).
+#[test]
+fn the_fast_engine_passes_level_1_for_literal_labels_and_wall_sites() {
+    let rules = "default+literal-labels+wall-sites";
+    let args = quick_args("fast", "1", &["--model", "pipe", "--rules", rules]);
+    let (_, r) = passing("fast-literal-wall-sites", &args);
+    assert_eq!(r["pass"], true);
+    assert!(r["level1"]["tests"].as_u64().unwrap() > 1000);
+}
+
 /// With collisions before gravity (`ph94`, no `gravity-first`) a relocated
 /// rest particle falls in the same step, so particles travel further than
 /// with the default; the probe blocks must still isolate the probe sites.

@@ -284,7 +284,25 @@ pub fn fig5_readings(
     let (dvw, dvw_err) = difference((vw.abs(), vw_err), vsw);
     let (dvlw, dvlw_err) = difference((vlw.abs(), vlw_err), vsw);
     let speeds: Vec<f64> = results.iter().map(|r| r.speed).collect();
+    // the speed read three ways (docs/decisions/real-space-speed-three-ways.md):
+    // (a) raw overlap, (b) overlap of the fluctuations, (c) the ridge of the
+    // space-time cross-correlation; their spread is an open choice (s_open)
+    let three = [
+        mean_sem_by(results, |r| r.speed.abs()),
+        mean_sem_by(results, |r| r.speed_fluctuations.abs()),
+        mean_sem_by(results, |r| r.speed_ridge.abs()),
+    ];
+    let spread = readings_spread(&three.map(|(m, _)| m));
     let mut metrics = stat_metrics([
+        (
+            "speed_real_space_fluctuations",
+            mean_sem_by(results, |r| r.speed_fluctuations),
+        ),
+        ("speed_real_space_fluctuations_abs", three[1]),
+        ("speed_ridge", mean_sem_by(results, |r| r.speed_ridge)),
+        ("speed_ridge_abs", three[2]),
+    ]);
+    metrics.extend(stat_metrics([
         ("speed_real_space", (v, v_err)),
         (
             "speed_real_space_abs",
@@ -297,13 +315,14 @@ pub fn fig5_readings(
         ("speed_real_space_wave_runs", (vw, vw_err)),
         ("speed_spectral_wave_runs", vsw),
         ("s_low", s_low),
-    ]);
+    ]));
     metrics.extend(metrics_of([
         ("speed_mean_curve_slope", fit.slope),
         ("speed_spectral_of_mean_spectrum", v_spec_mean),
         ("spectral_resolution", resolution),
         ("speed_real_space_median", median(&speeds)),
         ("wave_runs", wave_runs.len() as f64),
+        ("speed_readings_spread", spread),
     ]));
 
     // "the speeds coincide": equal within the published error bar of the
@@ -383,6 +402,19 @@ pub fn fig5_readings(
     })
 }
 
+/// The spread max - min of the ensemble speeds of the three readings
+/// (docs/decisions/real-space-speed-three-ways.md, "Into the margin"); NaN
+/// values are left out, NaN when none is left.
+pub fn readings_spread(speeds: &[f64]) -> f64 {
+    let v: Vec<f64> = speeds.iter().copied().filter(|v| v.is_finite()).collect();
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let max = v.iter().copied().fold(f64::MIN, f64::max);
+    let min = v.iter().copied().fold(f64::MAX, f64::min);
+    max - min
+}
+
 impl SpeedReadings {
     /// `fig` stating why the [`WAVE_RUN_METRICS`] may have no value (a mean
     /// over the runs with bands); when no run formed bands, a line on
@@ -424,9 +456,22 @@ impl SpeedReadings {
         ];
         let columns = [&tau[..], &self.shift, &self.shift_se, &self.wave_shift];
         out.write_columns("fig5.csv", &curve_header, &columns)?;
-        let run_header = ["seed", "speed_real_space", "speed_spectral", "s_low"];
+        let run_header = [
+            "seed",
+            "speed_real_space",
+            "speed_real_space_fluctuations",
+            "speed_ridge",
+            "speed_spectral",
+            "s_low",
+        ];
         out.write_runs("runs.csv", &run_header, seeds, results, |r| {
-            vec![r.speed, r.speed_spectral, r.s_low]
+            vec![
+                r.speed,
+                r.speed_fluctuations,
+                r.speed_ridge,
+                r.speed_spectral,
+                r.s_low,
+            ]
         })?;
         let mean_spec = &self.spectrum;
         let js: Vec<f64> = (0..mean_spec.len()).map(|j| j as f64).collect();
@@ -497,5 +542,17 @@ impl SpeedReadings {
             )],
             true,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_spread_of_the_readings_leaves_out_missing_values() {
+        assert!((readings_spread(&[0.1, 0.4, 0.3]) - 0.3).abs() < 1e-12);
+        assert_eq!(readings_spread(&[0.2, f64::NAN]), 0.0);
+        assert!(readings_spread(&[f64::NAN]).is_nan());
     }
 }

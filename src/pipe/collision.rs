@@ -1,7 +1,9 @@
 //! The collision rules R1-R5 of MODEL.md A3 as a table: for each of the 128
 //! states of a site (bit `c` = channel `c`, bit 0 = rest), the list of
 //! outcomes with their probabilities and the number of extra rest particles
-//! each outcome leaves for relocation (A4).
+//! each outcome leaves for relocation (A4). The notation of \[PH94 (1)-(5)\]
+//! is read as MODEL.md A3 reads it (arrival bonds in, velocities out), or
+//! with `literal-labels` as velocities on both sides (READINGS.md P1).
 //!
 //! The table is data: [`CollisionTable::describe`] prints it for checking.
 
@@ -31,13 +33,16 @@ pub enum Rule {
     None,
     /// R1: head-on pair `{c, c+3}` rotates by +-60 degrees.
     R1,
-    /// R2: `{c, c+2}` -> `{0, c+1}` with probability p (dissipation).
+    /// R2: `{c, c+2}` -> `{0, c+1}` with probability p (dissipation);
+    /// with `literal-labels` `{0, c+4}` with p, `{c+3, c+5}` with 1 - p.
     R2,
-    /// R3: `{c, c+2, c+4}` -> `{0, c', c'+3}` with probability p.
+    /// R3: `{c, c+2, c+4}` -> `{0, c', c'+3}` with probability p; with
+    /// `literal-labels` the 1 - p branch is `{c+1, c+3, c+5}`.
     R3,
     /// R4: `{0, c, c+3}` -> three rest particles (two extra).
     R4,
-    /// R5: `{0, c, c+2}` -> `{0, c+1}` plus one extra rest particle.
+    /// R5: `{0, c, c+2}` -> `{0, c+1}` plus one extra rest particle; with
+    /// `literal-labels` `{0, c+4}` plus one.
     R5,
     /// `fhp-rest` (READINGS.md P4, with that rule only): `{0, c}` ->
     /// `{c-1, c+1}` with certainty.
@@ -90,16 +95,17 @@ type RawOutcome = (u8, u8, f64);
 impl CollisionTable {
     /// Build the table of R1-R5 for dissipation probability `p`.
     pub fn new(p: f64) -> Self {
-        Self::build(p, false)
+        Self::build(p, false, false)
     }
 
-    /// The table of a rule reading: R1-R5, plus the rest-particle collision
-    /// of `fhp-rest` when named.
+    /// The table of a rule reading: R1-R5 in the notation it names
+    /// (`literal-labels` or not), plus the rest-particle collision of
+    /// `fhp-rest` when named.
     pub fn for_rules(p: f64, rules: Rules) -> Self {
-        Self::build(p, rules.fhp_rest)
+        Self::build(p, rules.fhp_rest, rules.literal_labels)
     }
 
-    fn build(p: f64, fhp_rest: bool) -> Self {
+    fn build(p: f64, fhp_rest: bool, literal: bool) -> Self {
         let mut raw: Vec<(Rule, Vec<RawOutcome>)> = (0..128u8)
             .map(|s| (Rule::None, vec![(s, 0, 1.0)]))
             .collect();
@@ -110,13 +116,24 @@ impl CollisionTable {
                 Rule::R1,
                 vec![(set(&[r(1), r(4)]), 0, 0.5), (set(&[r(2), r(5)]), 0, 0.5)],
             );
-            // R2 {c, c+2} -> {0, c+1} with p, unchanged with 1-p
             let s2 = set(&[c, r(2)]);
-            raw[s2 as usize] = (Rule::R2, vec![(set(&[0, r(1)]), 0, p), (s2, 0, 1.0 - p)]);
+            raw[s2 as usize] = if literal {
+                // [PH94 (2)] in velocities: (i, i+2) -> (0, i-2) with p,
+                // (i+3, i-1) with 1-p; both reverse the pair's momentum
+                (
+                    Rule::R2,
+                    vec![(set(&[0, r(4)]), 0, p), (set(&[r(3), r(5)]), 0, 1.0 - p)],
+                )
+            } else {
+                // R2 {c, c+2} -> {0, c+1} with p, unchanged with 1-p
+                (Rule::R2, vec![(set(&[0, r(1)]), 0, p), (s2, 0, 1.0 - p)])
+            };
             // R4 {0, c, c+3} -> three rest particles: one stays, two extra
             raw[set(&[0, c, r(3)]) as usize] = (Rule::R4, vec![(REST_BIT, 2, 1.0)]);
-            // R5 {0, c, c+2} -> {0, c+1} plus one extra rest particle
-            raw[set(&[0, c, r(2)]) as usize] = (Rule::R5, vec![(set(&[0, r(1)]), 1, 1.0)]);
+            // R5 {0, c, c+2} -> {0, c+1} plus one extra rest particle; in
+            // velocities [PH94 (5)] (i, 0, i+2) -> (0, 0, i-2): {0, c+4}
+            let mover = if literal { r(4) } else { r(1) };
+            raw[set(&[0, c, r(2)]) as usize] = (Rule::R5, vec![(set(&[0, mover]), 1, 1.0)]);
             if fhp_rest {
                 // {0, c} -> {c-1, c+1} with certainty (e_{c-1} + e_{c+1} = e_c)
                 raw[set(&[0, c]) as usize] = (Rule::FhpRest, vec![(set(&[r(5), r(1)]), 0, 1.0)]);
@@ -129,7 +146,14 @@ impl CollisionTable {
             let mut outs: Vec<(u8, u8, f64)> = (0..3)
                 .map(|k| (set(&[0, r(k), r(k + 3)]), 0, p / 3.0))
                 .collect();
-            outs.push((s3, 0, 1.0 - p));
+            // 1-p: unchanged, or in velocities [PH94 (3)] (i+3, i+1, i-1),
+            // the other triple (FHP's rotation by 60 degrees)
+            let kept = if literal {
+                set(&[r(1), r(3), r(5)])
+            } else {
+                s3
+            };
+            outs.push((kept, 0, 1.0 - p));
             raw[s3 as usize] = (Rule::R3, outs);
         }
         let entries = raw
@@ -323,6 +347,76 @@ mod tests {
         );
         let e = &fhp.entries[(REST_BIT | bit(4)) as usize];
         assert_eq!(e.outcomes[0].state, bit(3) | bit(5));
+    }
+
+    /// `literal-labels` (READINGS.md P1): the rules with velocity labels on
+    /// both sides, state by state at c = 1 (up): R1 and R4 as before; R2
+    /// {up, down-left} -> {rest, down-right} (p) or {down, up-right} (1 - p);
+    /// R3 {up, down-left, down-right} -> the three rest-and-pair outcomes
+    /// (p/3 each) or the rotated triple {up-left, down, up-right} (1 - p);
+    /// R5 {rest, up, down-left} -> {rest, down-right} and one extra. Mass
+    /// is kept everywhere; R2 and R5 reverse the momentum of the movers,
+    /// R1, R3 and R4 conserve it; every other state passes through.
+    #[test]
+    fn literal_labels_read_the_rules_in_velocities_on_both_sides() {
+        let p = 0.3;
+        let lit: Rules = "default+literal-labels".parse().unwrap();
+        let (base, t) = (CollisionTable::new(p), CollisionTable::for_rules(p, lit));
+        let out = |s: u8| -> Vec<(u8, u8, f64)> {
+            t.entries[s as usize]
+                .outcomes
+                .iter()
+                .map(|o| (o.state, o.extra, o.prob))
+                .collect()
+        };
+        let b = |cs: &[usize]| cs.iter().fold(0u8, |s, &c| s | bit(c));
+        assert_eq!(
+            out(b(&[1, 4])),
+            [(b(&[2, 5]), 0, 0.5), (b(&[3, 6]), 0, 0.5)]
+        );
+        assert_eq!(
+            out(b(&[1, 3])),
+            [(b(&[0, 5]), 0, p), (b(&[4, 6]), 0, 1.0 - p)]
+        );
+        let r3 = out(b(&[1, 3, 5]));
+        let states: Vec<u8> = r3.iter().map(|o| o.0).collect();
+        assert_eq!(
+            states,
+            [b(&[0, 1, 4]), b(&[0, 2, 5]), b(&[0, 3, 6]), b(&[2, 4, 6])]
+        );
+        assert!((r3[3].2 - (1.0 - p)).abs() < 1e-15);
+        assert_eq!(out(b(&[2, 4, 6]))[3].0, b(&[1, 3, 5]));
+        assert_eq!(out(b(&[0, 1, 4])), [(REST_BIT, 2, 1.0)]);
+        assert_eq!(out(b(&[0, 1, 3])), [(b(&[0, 5]), 1, 1.0)]);
+        for s in 0..128u8 {
+            let (e, e0) = (&t.entries[s as usize], &base.entries[s as usize]);
+            assert_eq!(e.rule, e0.rule, "{}", names(s));
+            let total: f64 = e.outcomes.iter().map(|o| o.prob).sum();
+            assert!((total - 1.0).abs() < 1e-12);
+            let m = momentum(s);
+            for o in &e.outcomes {
+                assert_eq!(mass(o.state) + o.extra as u32, mass(s), "{}", names(s));
+                let expect = match e.rule {
+                    Rule::R2 | Rule::R5 => (-m.0, -m.1),
+                    _ => m,
+                };
+                assert_eq!(momentum(o.state), expect, "{:?} {}", e.rule, names(s));
+            }
+            if matches!(e.rule, Rule::None | Rule::R1 | Rule::R4) {
+                assert_eq!(e, e0, "{}", names(s));
+            }
+        }
+        // at p = 0 R2 and R3 still act, with certainty
+        let t0 = CollisionTable::for_rules(0.0, lit);
+        assert_eq!(t0.entries[b(&[1, 3]) as usize].outcomes.len(), 1);
+        assert_eq!(
+            t0.entries[b(&[1, 3]) as usize].outcomes[0].state,
+            b(&[4, 6])
+        );
+        assert_eq!(
+            t0.entries[b(&[1, 3, 5]) as usize].outcomes[0].state,
+            b(&[2, 4, 6])
+        );
     }
 
     #[test]

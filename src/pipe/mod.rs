@@ -28,6 +28,7 @@ pub mod collision;
 pub mod draws;
 pub mod engine;
 pub mod fast;
+pub mod mechanism;
 pub mod observables;
 pub mod open;
 mod order;

@@ -77,7 +77,8 @@ pub(crate) fn step_observed<E: SubSteps>(
     if rules.wall_drag {
         engine.wall_drag();
     }
-    if rules.wall_move {
+    // with `wall-sites` no particle heads out of a wall site: nothing to move
+    if rules.wall_move && !rules.wall_sites {
         engine.wall_move();
     }
     engine.propagate();

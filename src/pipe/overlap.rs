@@ -212,15 +212,138 @@ pub fn late_lag_speed(shift_rows: &[f64], dt: u64) -> f64 {
         .unwrap_or(f64::NAN)
 }
 
+/// The run's time-mean profile: the mean of each bin over all `fields`
+/// (the standing part of the density; reading (b) of the real-space speed,
+/// docs/decisions/real-space-speed-three-ways.md).
+pub fn time_mean_profile(fields: &[Vec<f64>]) -> Vec<f64> {
+    let k = fields.first().map_or(0, Vec::len);
+    let n = fields.len().max(1) as f64;
+    (0..k)
+        .map(|i| fields.iter().map(|f| f[i]).sum::<f64>() / n)
+        .collect()
+}
+
+/// The fluctuations dn_i(t) = n_i(t) - (time mean of n_i over the run):
+/// only what changes in time is left.
+pub fn fluctuations(fields: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let mean = time_mean_profile(fields);
+    fields
+        .iter()
+        .map(|f| f.iter().zip(&mean).map(|(v, m)| v - m).collect())
+        .collect()
+}
+
+/// Reading (b) of the real-space speed \[PH95 C, Fig. 5\]: the shift of
+/// maximal overlap of the [`fluctuations`] (the run's time-mean profile
+/// removed, so a standing pattern cannot overlap), fitted as
+/// [`real_space_speed`]. Returns s(tau) in rows and the slope (rows per
+/// step, + = up).
+pub fn real_space_speed_fluctuations(
+    fields: &[Vec<f64>],
+    max_lag: usize,
+    dt: u64,
+    rows_per_bin: usize,
+) -> Result<(Vec<f64>, f64)> {
+    real_space_speed(&fluctuations(fields), max_lag, dt, rows_per_bin)
+}
+
+/// The space-time cross-correlation C(s, tau) = < dn_i(t) dn_{i+s}(t + tau) >
+/// of the fluctuations `dn` (bins periodic, the mean over every bin i and
+/// every t with both samples in the record), for tau = -max_lag..=max_lag
+/// samples: element `tau + max_lag`.
+pub fn cross_correlation(dn: &[Vec<f64>], s: i64, max_lag: usize) -> Vec<f64> {
+    let (n, k) = (dn.len(), dn.first().map_or(0, Vec::len));
+    let lag = max_lag as i64;
+    (-lag..=lag)
+        .map(|tau| {
+            let (from, to) = (tau.min(0).unsigned_abs() as usize, n as i64 - tau.max(0));
+            let mut sum = 0.0;
+            let mut count = 0usize;
+            for t in from..to.max(from as i64) as usize {
+                let (a, b) = (&dn[t], &dn[(t as i64 + tau) as usize]);
+                for i in 0..k {
+                    sum += a[i] * b[(i as i64 + s).rem_euclid(k as i64) as usize];
+                }
+                count += k;
+            }
+            if count == 0 {
+                f64::NAN
+            } else {
+                sum / count as f64
+            }
+        })
+        .collect()
+}
+
+/// The maximiser of a non-periodic curve, refined by a parabola through the
+/// maximum and its two neighbours (no refinement at either end).
+fn refined_argmax_open(c: &[f64]) -> f64 {
+    let j = argmax(c);
+    if j == 0 || j + 1 >= c.len() {
+        return j as f64;
+    }
+    let (l, m, r) = (c[j - 1], c[j], c[j + 1]);
+    let den = l - 2.0 * m + r;
+    let d = if den < 0.0 {
+        (0.5 * (l - r) / den).clamp(-0.5, 0.5)
+    } else {
+        0.0
+    };
+    j as f64 + d
+}
+
+/// Reading (c) of the real-space speed \[PH95 C, Fig. 5; III I, Fig. 11\]:
+/// the ridge of the space-time cross-correlation of the [`fluctuations`].
+/// For each separation s = 1..=`separations` bins the lag tau*(s) of the
+/// maximum of C(s, tau) over tau = -max_lag..=max_lag samples (refined by a
+/// parabola; negative for a ridge moving down), and the least-squares slope
+/// of s against tau*(s) through the origin: PH95 Fig. 11's R / T_c read at
+/// many R. Rows per step, + = up; NaN when every tau* is 0.
+pub fn ridge_speed(
+    fields: &[Vec<f64>],
+    separations: usize,
+    max_lag: usize,
+    dt: u64,
+    rows_per_bin: usize,
+) -> f64 {
+    let dn = fluctuations(fields);
+    let lag = max_lag.min(fields.len().saturating_sub(1));
+    let (mut st, mut tt) = (0.0, 0.0);
+    for s in 1..=separations {
+        let c = cross_correlation(&dn, s as i64, lag);
+        let tau = (refined_argmax_open(&c) - lag as f64) * dt as f64;
+        let rows = (s * rows_per_bin) as f64;
+        st += rows * tau;
+        tt += tau * tau;
+    }
+    if tt > 0.0 {
+        st / tt
+    } else {
+        f64::NAN
+    }
+}
+
+/// Separations 1..=FIG5_RIDGE_SEPARATIONS bins of reading (c) at PH95
+/// Fig. 5's set-up (64 rows in bins of 8: at v = 0.36 the furthest is
+/// crossed in under 5 of the 20 lags).
+pub const FIG5_RIDGE_SEPARATIONS: usize = 8;
+
 /// One run's wave speed measured both ways \[PH95 Fig. 5\]: in real space
-/// ([`real_space_speed`]) and from the spectral peak
-/// ([`spectral_speed`]).
+/// ([`real_space_speed`], and read (b) and (c) as well) and from the
+/// spectral peak ([`spectral_speed`]).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SpeedRun {
     /// s(tau) in rows for tau = dt, 2 dt, ..., max_lag dt.
     pub shift_rows: Vec<f64>,
-    /// Slope of s against tau (rows per step, + = up, against gravity).
+    /// Slope of s against tau (rows per step, + = up, against gravity):
+    /// reading (a), the raw fields.
     pub speed: f64,
+    /// Reading (b): the same slope with the run's time-mean profile removed
+    /// ([`real_space_speed_fluctuations`]).
+    pub speed_fluctuations: f64,
+    /// Reading (c): the ridge of the space-time cross-correlation
+    /// ([`ridge_speed`], separations 1..=[`FIG5_RIDGE_SEPARATIONS`] bins).
+    pub speed_ridge: f64,
     /// Bin-averaged spectrum of this run.
     pub spectrum: Vec<f64>,
     /// Spectral speed of this run (rows per step, always >= 0).
@@ -241,9 +364,13 @@ impl SpeedRun {
     ) -> Result<Self> {
         let (shift_rows, speed) = real_space_speed(fields, max_lag, dt, params.bin)?;
         let (spectrum, speed_spectral) = spectral_speed(fields, params.length, dt, spec)?;
+        let speed_fluctuations = real_space_speed_fluctuations(fields, max_lag, dt, params.bin)?.1;
+        let speed_ridge = ridge_speed(fields, FIG5_RIDGE_SEPARATIONS, max_lag, dt, params.bin);
         Ok(SpeedRun {
             shift_rows,
             speed,
+            speed_fluctuations,
+            speed_ridge,
             spectrum,
             speed_spectral,
             s_low: s_low(fields, params.rho, params.bin, params.width),
@@ -517,6 +644,58 @@ mod tests {
         }
         let c = centre_on_max(&avg);
         assert_eq!(argmax(&c), 25);
+    }
+
+    /// A ridge moving at `v` bins per sample (amplitude 2) over a standing
+    /// bump at bin 40 (amplitude 8), K = 64, 400 samples.
+    fn ridge_over_standing(v: f64) -> Vec<Vec<f64>> {
+        (0..400)
+            .map(|t| {
+                let moving = bump(64, (10.0 + v * t as f64).rem_euclid(64.0), 2.0);
+                let standing = bump(64, 40.0, 3.0);
+                moving
+                    .iter()
+                    .zip(&standing)
+                    .map(|(m, s)| 0.4 * (m - 10.0) + 1.6 * (s - 10.0) + 20.0)
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn raw_overlap_locks_on_a_standing_pattern_the_other_readings_find_the_ridge() {
+        // 0.8 bins per sample up = 0.8 * 8 rows / 40 steps = 0.16 rows per step
+        let (v, dt, bin) = (0.8, 40, 8);
+        let want = v * bin as f64 / dt as f64;
+        let fields = ridge_over_standing(v);
+        let (_, a) = real_space_speed(&fields, 20, dt, bin).unwrap();
+        assert!(a.abs() < 0.2 * want, "(a) {a} should lock near 0");
+        let (_, b) = real_space_speed_fluctuations(&fields, 20, dt, bin).unwrap();
+        assert!((b - want).abs() < 0.02 * want, "(b) {b} vs {want}");
+        let c = ridge_speed(&fields, 8, 20, dt, bin);
+        assert!((c - want).abs() < 0.05 * want, "(c) {c} vs {want}");
+        // and downwards
+        let fields = ridge_over_standing(-v);
+        let b = real_space_speed_fluctuations(&fields, 20, dt, bin)
+            .unwrap()
+            .1;
+        let c = ridge_speed(&fields, 8, 20, dt, bin);
+        assert!((b + want).abs() < 0.02 * want, "(b) {b} vs {}", -want);
+        assert!((c + want).abs() < 0.05 * want, "(c) {c} vs {}", -want);
+    }
+
+    #[test]
+    fn the_time_mean_profile_is_removed_exactly() {
+        let fields = vec![vec![1.0, 2.0, 3.0], vec![3.0, 2.0, 1.0]];
+        assert_eq!(time_mean_profile(&fields), vec![2.0, 2.0, 2.0]);
+        assert_eq!(fluctuations(&fields)[0], vec![-1.0, 0.0, 1.0]);
+        // C(s, tau) of a pattern that does not change is NaN-free and
+        // symmetric in tau
+        let dn = fluctuations(&ridge_over_standing(0.5));
+        let c = cross_correlation(&dn, 0, 3);
+        assert_eq!(c.len(), 7);
+        assert!(c.iter().all(|v| v.is_finite()));
+        assert!(argmax(&c) == 3, "{c:?}");
     }
 
     #[test]

@@ -143,10 +143,13 @@ fn walls(w: usize) -> [Wall; 2] {
 
 impl Pipe {
     /// A new run: validates `params`, builds the rule tables for `rules`, and
-    /// draws the initial state (A8) from `seed`. The open pipe starts empty.
+    /// draws the initial state (A8) from `seed`: each moving state of each
+    /// site occupied with probability rho/6, or with `wall-sites` each
+    /// moving state that exists with rho W / (6 W - 8) (READINGS.md P12;
+    /// [`Rules::fill_probability`]). The open pipe starts empty.
     pub fn new(params: Params, rules: Rules, seed: u64) -> Result<Self> {
         params.validate()?;
-        rules.validate()?;
+        rules.validate_for(&params)?;
         let stride = params.length + 2;
         let n = (params.width + 2) * stride;
         let mut pipe = Pipe {
@@ -173,12 +176,13 @@ impl Pipe {
         };
         pipe.build_kinds();
         if params.boundary == Boundary::Periodic {
-            let t = threshold(params.rho / 6.0);
+            let t = threshold(rules.fill_probability(&params));
             for x in 0..params.width {
+                let exists = rules.channels_of_column(x, params.width);
                 for y in 0..params.length {
                     let mut s = 0u8;
                     for c in 1..=6 {
-                        if pipe.rng.chance(t) {
+                        if exists & bit(c) != 0 && pipe.rng.chance(t) {
                             s |= bit(c);
                         }
                     }
@@ -332,7 +336,8 @@ impl<D: Draws> SubSteps for Pipe<D> {
 
     /// Injection (A7, \[PH95 III I\]): each empty channel 3, 4, 5 of the top
     /// row (channel 4 alone with `inject-down`, READINGS.md P17) is filled
-    /// with probability I, site by site from the left.
+    /// with probability I, site by site from the left; a wall site of
+    /// `wall-sites` has only its downward inward diagonal among them.
     fn inject(&mut self) {
         let y = self.params.length - 1;
         let channels: &[usize] = if self.rules.inject_down {
@@ -342,7 +347,11 @@ impl<D: Draws> SubSteps for Pipe<D> {
         };
         for x in 0..self.params.width {
             let i = self.idx(x, y);
+            let exists = self.rules.channels_of_column(x, self.params.width);
             for &c in channels {
+                if exists & bit(c) == 0 {
+                    continue;
+                }
                 if self.cells[i] & bit(c) == 0 && self.rng.chance(self.inject_t) {
                     self.cells[i] |= bit(c);
                     self.flux.injected += 1;
@@ -351,12 +360,13 @@ impl<D: Draws> SubSteps for Pipe<D> {
         }
     }
 
-    /// Collisions (A3, \[PH94 (1)-(5)\]) by the table at every site, then the
-    /// relocation of the extra rest particles of R4 and R5 (A4).
+    /// Collisions (A3, \[PH94 (1)-(5)\]) by the table at every site (with
+    /// `wall-sites` every site but the wall sites), then the relocation of
+    /// the extra rest particles of R4 and R5 (A4).
     fn collide(&mut self) -> Result<()> {
         self.extras.clear();
-        let (w, l) = (self.params.width, self.params.length);
-        for x in 0..w {
+        let l = self.params.length;
+        for x in self.rules.inner_columns(self.params.width) {
             let start = (x + 1) * self.stride + 1;
             for i in start..start + l {
                 let s = self.cells[i] as usize;
@@ -390,7 +400,8 @@ impl<D: Draws> SubSteps for Pipe<D> {
     /// the state's tabulated moves with probability g, then `rest-slide`.
     /// With `rest-ahead` a turn 2 -> 3 or 6 -> 5 is made only when the
     /// mover's neighbour ahead held a rest particle at the start of this
-    /// sub-step ([`Pipe::rest_ahead`]).
+    /// sub-step ([`Pipe::rest_ahead`]). With `wall-sites` gravity does not
+    /// act on the wall sites.
     fn gravity(&mut self) {
         if self.g_t == 0 {
             return;
@@ -400,8 +411,8 @@ impl<D: Draws> SubSteps for Pipe<D> {
         if ahead_only {
             self.before.clone_from(&self.cells);
         }
-        let (w, l) = (self.params.width, self.params.length);
-        for x in 0..w {
+        let l = self.params.length;
+        for x in self.rules.inner_columns(self.params.width) {
             let start = (x + 1) * self.stride + 1;
             for (y, i) in (start..start + l).enumerate() {
                 let s = self.cells[i];
@@ -475,14 +486,19 @@ impl<D: Draws> SubSteps for Pipe<D> {
 
     /// Propagation (A2 step 5, \[PH94\], \[PH95 II\]): every mover moves to its
     /// neighbour (A1); at the ends the periodic wrap or the outflow of the
-    /// open pipe (A7); at a wall the reflection in place (A6).
+    /// open pipe (A7); at a wall the reflection in place (A6), or with
+    /// `wall-sites` the reflection of the particles arriving at a wall site.
     fn propagate(&mut self) {
         match self.params.boundary {
             Boundary::Periodic => self.wrap_ends(),
             Boundary::Open { .. } => self.count_exits(),
         }
         self.stream();
-        self.reflect_at_walls();
+        if self.rules.wall_sites {
+            self.reflect_on_arrival();
+        } else {
+            self.reflect_at_walls();
+        }
         std::mem::swap(&mut self.cells, &mut self.next);
     }
 
@@ -678,6 +694,21 @@ impl<D: Draws> Pipe<D> {
                 let i = self.idx(wall.x, y);
                 let out = self.reflect(self.cells[i], &wall);
                 self.next[i] |= out;
+            }
+        }
+    }
+
+    /// `wall-sites` (READINGS.md P12): the wall rule (A6, \[PH94 (7)\]) at
+    /// the wall sites, on the particles that have just arrived there
+    /// (heading into the wall): each leaves in its reflected channel, one
+    /// of the two inward diagonals, which are all a wall site holds.
+    fn reflect_on_arrival(&mut self) {
+        for wall in walls(self.params.width) {
+            for y in 0..self.params.length {
+                let i = self.idx(wall.x, y);
+                let arrived = self.next[i];
+                let out = self.reflect(arrived, &wall);
+                self.next[i] = (arrived & !wall.heading_in()) | out;
             }
         }
     }

@@ -52,7 +52,7 @@ pub fn relocate(
         extras,
         rest_now,
         time,
-        |lat, x, y| random_walk(lat, below, params, x, y, time),
+        |lat, x, y| random_walk(lat, below, params, rules, x, y, time),
     )
 }
 
@@ -69,7 +69,9 @@ pub fn relocate_with<L: RestChannels>(
     time: u64,
     mut walk: impl FnMut(&mut L, usize, usize) -> Result<()>,
 ) -> Result<()> {
-    let sites = params.sites() as u64;
+    // the sites that can hold a rest particle (not the wall sites of
+    // `wall-sites`, READINGS.md P12)
+    let sites = (rules.inner_columns(params.width).len() * params.length) as u64;
     let total = rest_now + extras.len() as u64;
     if total > sites {
         let p = params;
@@ -153,18 +155,22 @@ const PICK: [[u8; 6]; 64] = {
     t
 };
 
-/// The random walk from (x, y) over neighbouring sites (walls, and rows
-/// beyond the open ends, excluded) until a site with an empty rest channel
-/// is reached.
+/// The random walk from (x, y) over neighbouring sites (walls, the wall
+/// sites of `wall-sites`, and rows beyond the open ends excluded) until a
+/// site with an empty rest channel is reached.
 pub fn random_walk(
     lattice: &mut impl RestChannels,
     below: &mut impl FnMut(u32) -> u32,
     params: &Params,
+    rules: Rules,
     mut x: usize,
     mut y: usize,
     time: u64,
 ) -> Result<()> {
-    let (w, l) = (params.width as i64, params.length as i64);
+    let inner = rules.inner_columns(params.width);
+    // the columns a walk may enter: x0 <= x < w
+    let (x0_min, w) = (inner.start as i64, inner.end as i64);
+    let l = params.length as i64;
     let periodic = params.boundary == Boundary::Periodic;
     let bound = walk_bound(params);
     // the six hops of an even and an odd column, in direction order 1..=6
@@ -173,7 +179,7 @@ pub fn random_walk(
     for _ in 0..bound {
         let (x0, y0) = (x as i64, y as i64);
         let steps = &hop[x % 2];
-        let interior = x0 >= 1 && x0 < w - 1 && (periodic || (y0 >= 1 && y0 < l - 1));
+        let interior = x0 > x0_min && x0 < w - 1 && (periodic || (y0 >= 1 && y0 < l - 1));
         let (dx, dy) = if interior {
             // all six valid: direction below(6) + 1, as the enumeration gives
             steps[below(6) as usize]
@@ -183,7 +189,7 @@ pub fn random_walk(
             let mut valid = 0usize;
             for (k, &(dx, dy)) in steps.iter().enumerate() {
                 let (nx, ny) = (x0 + dx, y0 + dy);
-                let inside = (nx >= 0) & (nx < w) & (periodic | ((ny >= 0) & (ny < l)));
+                let inside = (nx >= x0_min) & (nx < w) & (periodic | ((ny >= 0) & (ny < l)));
                 valid |= (inside as usize) << k;
             }
             if valid == 0 {

@@ -22,6 +22,7 @@
 //! assert!("ph96".parse::<Rules>().is_err());
 //! ```
 
+use super::{Boundary, Params};
 use crate::error::{Error, ErrorKind};
 use std::fmt;
 use std::str::FromStr;
@@ -140,6 +141,29 @@ pub struct Rules {
     /// from 2 to 3/2, a dissipative collision, hence p; at probability 0 the
     /// rule does nothing.
     pub lane_collide: LaneCollide,
+    /// `literal-labels` (READINGS.md P1): the indices of \[PH94 (1)-(5)\]
+    /// read as velocities on both sides of each rule, instead of arrival
+    /// bonds on the left and velocities on the right (MODEL.md A3). R1 and
+    /// R4 are unchanged (a head-on pair is the same set either way); R2
+    /// becomes {c, c+2} -> {0, c+4} (p) or {c+3, c+5} (1 - p), R5
+    /// {0, c, c+2} -> {0, c+4} plus an extra rest particle, so both reverse
+    /// the pair's momentum, against the statement that every collision
+    /// conserves momentum (\[PH94\] before (1), \[PH95 II\]); R3's 1 - p
+    /// outcome {c+1, c+3, c+5} is FHP's rotation of the triple.
+    pub literal_labels: bool,
+    /// `wall-sites` (READINGS.md P12): the outer columns 0 and W-1 are wall
+    /// sites, read from \[PH94\] before (7) and \[PH95 II\] (a site at the
+    /// wall has only two directions a particle can move in): they hold only
+    /// the two inward diagonals (5 and 6 on the left, 2 and 3 on the right),
+    /// never a rest particle or a vertical mover; no collision, gravity or
+    /// relocation acts there. A particle arriving at a wall site is
+    /// reflected there by the wall rule (A6: bounce-back with probability b,
+    /// else specular) and moves back into the pipe in the next step. The
+    /// initial fill (A8) occupies every moving state that exists with one
+    /// probability, so that E\[N\] = rho W L. Needs W >= 3; `wall-move`
+    /// has nothing to act on (no particle heads out of a wall site) and
+    /// `wall-drag` is refused (a wall site holds no mover along the wall).
+    pub wall_sites: bool,
 }
 
 /// Whether and how often two down-movers in contact collide (`lane-collide`,
@@ -223,6 +247,8 @@ impl Rules {
         inject_down: false,
         inject_late: false,
         lane_collide: LaneCollide::Off,
+        literal_labels: false,
+        wall_sites: false,
     };
 }
 
@@ -237,7 +263,83 @@ impl Rules {
                 format!("rules: '{self}' names both gravity-first and gravity-last; gravity acts once per step, name at most one of them"),
             ));
         }
+        if self.wall_sites && self.wall_drag {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!("rules: '{self}' names both wall-sites and wall-drag; a wall site holds only the two inward diagonals, so there is no mover along the wall to drag: name at most one of them"),
+            ));
+        }
         Ok(())
+    }
+
+    /// Checks this reading against the pipe it runs on: `wall-sites` needs
+    /// a column between the two walls (W >= 3), and its initial occupation
+    /// rho W / (6 W - 8) of every existing moving state (A8, READINGS.md
+    /// P12) must lie below 1, i.e. rho < 6 - 8/W in the periodic pipe.
+    pub fn validate_for(&self, params: &Params) -> Result<(), Error> {
+        self.validate()?;
+        if !self.wall_sites {
+            return Ok(());
+        }
+        let w = params.width;
+        if w < 3 {
+            return Err(Error::new(
+                ErrorKind::InvalidParameter,
+                format!("rules: wall-sites makes columns 0 and W-1 wall sites and needs W >= 3 (a column between them); W = {w}"),
+            ));
+        }
+        if params.boundary == Boundary::Periodic {
+            let hi = 6.0 - 8.0 / w as f64;
+            if params.rho >= hi {
+                return Err(Error::new(
+                    ErrorKind::InvalidParameter,
+                    format!(
+                        "rho = {} is outside the allowed range (0, {hi}) of wall-sites at W = {w}: the {} moving states per row (6 per inner site, 2 per wall site) hold rho W = {} particles per row on average; choose rho < {hi}",
+                        params.rho,
+                        6 * w - 8,
+                        params.rho * w as f64
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The probability with which each existing moving state is occupied
+    /// at the start of the periodic pipe (MODEL.md A8): rho/6 (six moving
+    /// states per site); with `wall-sites` (READINGS.md P12) rho W / (6 W -
+    /// 8), since a row then holds 6 (W - 2) + 2 + 2 moving states, so that
+    /// E\[N\] = rho W L in both.
+    pub fn fill_probability(&self, params: &Params) -> f64 {
+        if self.wall_sites {
+            let w = params.width as f64;
+            params.rho * w / (6.0 * w - 8.0)
+        } else {
+            params.rho / 6.0
+        }
+    }
+
+    /// The channels site column `x` of a pipe `width` wide can hold, as a
+    /// mask: all seven, or with `wall-sites` the two inward diagonals of a
+    /// wall site (column 0: 5 and 6; column W-1: 2 and 3).
+    pub fn channels_of_column(&self, x: usize, width: usize) -> u8 {
+        if self.wall_sites && x == 0 {
+            0b0110_0000
+        } else if self.wall_sites && x + 1 == width {
+            0b0000_1100
+        } else {
+            0b0111_1111
+        }
+    }
+
+    /// The columns where particles collide, feel gravity and take rest
+    /// particles (the inner columns): 0..W, or 1..W-1 with `wall-sites`.
+    pub fn inner_columns(&self, width: usize) -> std::ops::Range<usize> {
+        if self.wall_sites {
+            1..width.saturating_sub(1)
+        } else {
+            0..width
+        }
     }
 }
 
@@ -260,7 +362,7 @@ impl Default for Rules {
 }
 
 /// Every name understood by [`Rules::from_str`], with its meaning.
-pub const RULE_NAMES: [(&str, &str); 15] = [
+pub const RULE_NAMES: [(&str, &str); 17] = [
     (
         "default",
         "the project's default reading, ph94+gravity-first+wall-move+inject-late",
@@ -312,6 +414,14 @@ pub const RULE_NAMES: [(&str, &str); 15] = [
         "lane-collide",
         "a down-mover above another is deflected to 3 or 5 with probability p (an extension); lane-collide:q with a probability q in [0, 1] of its own",
     ),
+    (
+        "literal-labels",
+        "the collision rules' indices read as velocities on both sides (R2 and R5 reverse the pair's momentum, R3's 1 - p branch rotates the triple)",
+    ),
+    (
+        "wall-sites",
+        "columns 0 and W-1 are wall sites holding only the two inward diagonals (no rest particle, collision or gravity there)",
+    ),
 ];
 
 impl GravityWording {
@@ -340,7 +450,7 @@ type Switch = (&'static str, fn(&Rules) -> bool, fn(&mut Rules));
 
 /// Every switch, in the order a reading's name lists them
 /// (`ph94+wall-drag+gravity-first`, never the other way round).
-const SWITCHES: [Switch; 10] = [
+const SWITCHES: [Switch; 12] = [
     ("wall-drag", |r| r.wall_drag, |r| r.wall_drag = true),
     (
         "gravity-first",
@@ -367,6 +477,12 @@ const SWITCHES: [Switch; 10] = [
         |r| r.lane_collide == LaneCollide::AtP,
         |r| r.lane_collide = LaneCollide::AtP,
     ),
+    (
+        "literal-labels",
+        |r| r.literal_labels,
+        |r| r.literal_labels = true,
+    ),
+    ("wall-sites", |r| r.wall_sites, |r| r.wall_sites = true),
 ];
 
 impl fmt::Display for Rules {
@@ -467,12 +583,13 @@ mod tests {
             "+wall-drag+gravity-first+rest-up+wall-move+rest-slide+fhp-rest+inject-down",
             "+wall-drag+rest-up+wall-move+rest-slide+gravity-last+fhp-rest+inject-late",
             "+gravity-first+inject-down+inject-late",
+            "+gravity-first+wall-move+inject-late+literal-labels+wall-sites",
         ];
         let extras: Vec<String> = std::iter::once(String::new())
             .chain(single)
             .chain(combined.map(String::from))
             .collect();
-        assert_eq!(extras.len(), 15);
+        assert_eq!(extras.len(), 18);
         for g in GravityWording::ALL.map(GravityWording::name) {
             for extra in &extras {
                 let s = format!("{g}{extra}");
@@ -525,6 +642,62 @@ mod tests {
             zero.to_string(),
             "ph94+gravity-first+wall-move+inject-late+lane-collide:0"
         );
+    }
+
+    #[test]
+    fn literal_labels_and_wall_sites_are_named_parts() {
+        let r: Rules = "default+literal-labels".parse().unwrap();
+        assert!(r.literal_labels && !r.wall_sites);
+        assert_eq!(
+            r.to_string(),
+            "ph94+gravity-first+wall-move+inject-late+literal-labels"
+        );
+        let r: Rules = "wall-sites+any-mover+literal-labels".parse().unwrap();
+        assert_eq!(r.to_string(), "any-mover+literal-labels+wall-sites");
+        assert!(!Rules::default().literal_labels && !Rules::default().wall_sites);
+        // wall-drag has no mover along the wall to act on
+        let e = "default+wall-sites+wall-drag".parse::<Rules>().unwrap_err();
+        assert!(
+            e.message.contains("wall-sites") && e.message.contains("wall-drag"),
+            "{}",
+            e.message
+        );
+    }
+
+    /// `wall-sites` needs W >= 3 and, in the periodic pipe, rho below
+    /// 6 - 8/W (every existing moving state filled with rho W / (6 W - 8) <
+    /// 1); the open pipe starts empty and needs only W.
+    #[test]
+    fn wall_sites_checks_the_pipe_it_runs_on() {
+        let ws: Rules = "default+wall-sites".parse().unwrap();
+        let p = Params::default();
+        assert!(ws.validate_for(&p).is_ok());
+        let e = ws.validate_for(&Params { width: 2, ..p }).unwrap_err();
+        assert!(
+            e.message.contains("W = 2") && e.message.contains("W >= 3"),
+            "{}",
+            e.message
+        );
+        let e = ws.validate_for(&Params { rho: 5.5, ..p }).unwrap_err();
+        assert!(e.message.contains("rho = 5.5"), "{}", e.message);
+        let open = Params {
+            rho: 5.5,
+            boundary: Boundary::Open { inject: 0.5 },
+            ..p
+        };
+        assert!(ws.validate_for(&open).is_ok());
+        assert!(Rules::default()
+            .validate_for(&Params { width: 1, ..p })
+            .is_ok());
+        // E[N] = rho W L: the probability times the moving states per row
+        let q = ws.fill_probability(&p);
+        assert!((q * (6.0 * 11.0 - 8.0) - 11.0).abs() < 1e-12);
+        assert_eq!(Rules::default().fill_probability(&p), 1.0 / 6.0);
+        assert_eq!(ws.channels_of_column(0, 11), 0b0110_0000);
+        assert_eq!(ws.channels_of_column(10, 11), 0b0000_1100);
+        assert_eq!(ws.channels_of_column(5, 11), 0x7f);
+        assert_eq!(ws.inner_columns(11), 1..10);
+        assert_eq!(Rules::default().inner_columns(11), 0..11);
     }
 
     #[test]

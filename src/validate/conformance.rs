@@ -81,6 +81,31 @@ pub fn probes() -> Vec<Probe> {
     ]
 }
 
+/// Whether the reading `rules` runs on `probe`'s pipe and its probe site
+/// can hold `state`: with `wall-sites` (READINGS.md P12) the probes of W <
+/// 3 have no column between the walls, and a wall site holds only its two
+/// inward diagonals; the other (probe, state) pairs are left out of level 1.
+pub fn holds(probe: &Probe, rules: Rules, state: u8) -> bool {
+    let width = if probe.open {
+        OPEN_WIDTH + 1
+    } else {
+        probe.width
+    };
+    if rules.wall_sites && width < 3 {
+        return false;
+    }
+    state & !rules.channels_of_column(probe.x, width) == 0
+}
+
+/// The (probe index, state) pairs of level 1 under `rules` ([`holds`]).
+pub fn cases(rules: Rules) -> Vec<(usize, u8)> {
+    let probes = probes();
+    (0..probes.len())
+        .flat_map(|p| (0..128u8).map(move |s| (p, s)))
+        .filter(|&(p, s)| holds(&probes[p], rules, s))
+        .collect()
+}
+
 /// Columns per probe block of the open probes, the probe in the middle. Even,
 /// so that every probe column has the same parity (the odd columns are
 /// offset by half a row, MODEL.md A1); 6, so that the walls (column 0 and
@@ -262,8 +287,15 @@ pub fn table(base: &Params, rules: Rules) -> Result<Table> {
     let mut max_truncated_mass: f64 = 0.0;
     let mut out = Vec::new();
     for probe in probes() {
+        if rules.wall_sites && !holds(&probe, rules, 0) {
+            continue; // no pipe of this width under `wall-sites`
+        }
         let mut states = Vec::new();
         for s in 0..128u8 {
+            if !holds(&probe, rules, s) {
+                states.push(BTreeMap::new()); // a state its site cannot hold
+                continue;
+            }
             let (d, cut) = exact(&probe, base, rules, s)?;
             max_truncated_mass = max_truncated_mass.max(cut);
             states.push(d);
@@ -432,9 +464,7 @@ pub fn level1(
     }
     let r: Rules = rules.parse()?;
     let probes = probes();
-    let jobs: Vec<(usize, u8)> = (0..probes.len())
-        .flat_map(|p| (0..128u8).map(move |s| (p, s)))
-        .collect();
+    let jobs = cases(r);
     let results = crate::run::ensemble(jobs.len(), |j| {
         let (pi, s) = jobs[j];
         let probe = &probes[pi];

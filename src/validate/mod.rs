@@ -396,13 +396,14 @@ fn hopper_part(
     })
 }
 
-/// Jobs [`validate`] reports through `tick`.
-pub fn jobs(levels: Level, model: Model, tier: Tier, size: Size) -> u64 {
+/// Jobs [`validate`] reports through `tick`, for the pipe reading `rules`
+/// (level 1 leaves out the states a reading's site cannot hold).
+pub fn jobs(levels: Level, model: Model, tier: Tier, size: Size, rules: Rules) -> u64 {
     let (one, two) = (levels != Level::Two, levels != Level::One);
     let mut n = 0;
     if model.pipe() {
         if one {
-            n += conformance::probes().len() as u64 * 128 + 2; // + the memory probes
+            n += conformance::cases(rules).len() as u64 + 2; // + the memory probes
         }
         if two {
             n += 2 * size.runs as u64 * scenes::scenes(tier).len() as u64;
@@ -449,9 +450,16 @@ pub fn markdown(r: &Report) -> String {
     }
     if let Some(l) = &r.level1 {
         s.push_str(&format!(
-            "## Level 1: rule conformance — {}\n\n{} probes x 128 states, {} trials each; {} exact binomial tests, Bonferroni family-wise false-alarm rate {} (an outcome the reference cannot produce fails outright).\n\n",
+            "## Level 1: rule conformance — {}\n\n{} probes x 128 states{}, {} trials each; {} exact binomial tests, Bonferroni family-wise false-alarm rate {} (an outcome the reference cannot produce fails outright).\n\n",
             verdict(l.pass),
             conformance::probes().len(),
+            match r.rules.parse::<Rules>().map(conformance::cases) {
+                Ok(c) if c.len() < conformance::probes().len() * 128 => format!(
+                    " ({} of them: the rest are states a wall site of the reading cannot hold, or pipes too narrow for it)",
+                    c.len()
+                ),
+                _ => String::new(),
+            },
             l.trials,
             l.tests,
             l.alpha

@@ -115,6 +115,23 @@ pub struct Collided {
     pub two_extras: u64,
 }
 
+/// The dissipative outcomes of R3 on 64 sites: per head-on pair {1, 4},
+/// {2, 5}, {3, 6}, the lanes of R3 that stop into it (outcome j of {c,
+/// c+2, c+4} is the pair {c+j, c+j+3}, drawn by `d.r3`); 0 without R3.
+#[inline]
+fn r3_pairs(k: &Classes, d: &Decisions) -> [u64; 3] {
+    if k.any_r3() == 0 {
+        return [0; 3];
+    }
+    let j = [d.r3[0], d.r3[1] & !d.r3[0], d.r3[2] & !d.r3[1]];
+    let [a, b] = k.r3;
+    [
+        (a & j[0]) | (b & j[2]),
+        (a & j[1]) | (b & j[0]),
+        (a & j[2]) | (b & j[1]),
+    ]
+}
+
 /// The collision step of MODEL.md A3 on 64 sites of classes `k`, written
 /// on whole sets of movers: R1 rotates the pair by +60 or +120 degrees
 /// (new c = old c-1 or old c-2); R2 (dissipating) and R5 leave the rest
@@ -125,17 +142,7 @@ pub struct Collided {
 pub fn collide(s: &Word, k: &Classes, d: &Decisions) -> Collided {
     let (turn1, turn2) = (k.r1 & d.r1, k.r1 & !d.r1);
     let middle = (k.r2 & d.r2) | k.r5;
-    // R3 outcome j of {c, c+2, c+4} is the pair {c+j, c+j+3}
-    let mut pairs = [0u64; 3];
-    if k.any_r3() != 0 {
-        let j = [d.r3[0], d.r3[1] & !d.r3[0], d.r3[2] & !d.r3[1]];
-        let [a, b] = k.r3;
-        pairs = [
-            (a & j[0]) | (b & j[2]),
-            (a & j[1]) | (b & j[0]),
-            (a & j[2]) | (b & j[1]),
-        ];
-    }
+    let pairs = r3_pairs(k, d);
     let r3 = pairs[0] | pairs[1] | pairs[2];
     let changed = k.r1 | k.r4 | middle | r3 | k.fhp;
     let mut state = [0u64; 7];
@@ -148,6 +155,49 @@ pub fn collide(s: &Word, k: &Classes, d: &Decisions) -> Collided {
             | (middle & s[before] & s[after])
             | (k.fhp & (s[before] | s[after]))
             | pairs[pair];
+    }
+    Collided {
+        state,
+        one_extra: k.r5,
+        two_extras: k.r4,
+    }
+}
+
+/// Channel `c + k` (mod 6 on 1..=6) of mover channel `c`.
+const fn turn(c: usize, k: usize) -> usize {
+    (c - 1 + k) % 6 + 1
+}
+
+/// The collision step of `literal-labels` (READINGS.md P1: the indices of
+/// \[PH94 (1)-(5)\] read as velocities on both sides) on 64 sites of classes
+/// `k`, with the same classes and draws as [`collide`]: R1, R4 and the
+/// dissipating outcomes of R3 as there; R2 dissipating and R5 leave the rest
+/// particle and the mover opposite the pair's middle (new c = old c+2 and
+/// old c+4); R2 otherwise reverses both movers (new c = old c+3); R3
+/// otherwise rotates the triple by 60 degrees (new c = old c-1).
+#[inline]
+pub fn collide_literal(s: &Word, k: &Classes, d: &Decisions) -> Collided {
+    let (turn1, turn2) = (k.r1 & d.r1, k.r1 & !d.r1);
+    let opposite = (k.r2 & d.r2) | k.r5;
+    let reversed = k.r2 & !d.r2;
+    let pairs = r3_pairs(k, d);
+    let r3 = k.any_r3();
+    let stopped = pairs[0] | pairs[1] | pairs[2];
+    let rotated = r3 & !stopped;
+    let changed = k.r1 | k.r4 | opposite | reversed | r3 | k.fhp;
+    let mut state = [0u64; 7];
+    state[0] = (s[0] & !k.fhp) | opposite | stopped;
+    for c in 1..=6 {
+        let before = s[turn(c, 5)];
+        let after = s[turn(c, 1)];
+        state[c] = (s[c] & !changed)
+            | (turn1 & before)
+            | (turn2 & s[turn(c, 4)])
+            | (opposite & s[turn(c, 2)] & s[turn(c, 4)])
+            | (reversed & s[turn(c, 3)])
+            | (rotated & before)
+            | (k.fhp & (before | after))
+            | pairs[(c - 1) % 3];
     }
     Collided {
         state,
@@ -267,16 +317,18 @@ mod tests {
 
     #[test]
     fn every_state_collides_as_the_table_says_for_every_uniform_draw() {
-        let fhp: crate::pipe::Rules = "ph94+fhp-rest".parse().unwrap();
-        for (p, fhp_rest) in [0.0, 1e-12, 0.1, 0.5, 0.9, 1.0]
-            .into_iter()
-            .flat_map(|p| [(p, false), (p, true)])
-        {
-            let table = if fhp_rest {
-                CollisionTable::for_rules(p, fhp)
-            } else {
-                CollisionTable::new(p)
-            };
+        for (p, name) in [0.0, 1e-12, 0.1, 0.5, 0.9, 1.0].into_iter().flat_map(|p| {
+            [
+                "ph94",
+                "ph94+fhp-rest",
+                "ph94+literal-labels",
+                "ph94+fhp-rest+literal-labels",
+            ]
+            .map(|n| (p, n))
+        }) {
+            let rules: crate::pipe::Rules = name.parse().unwrap();
+            let (fhp_rest, literal) = (rules.fhp_rest, rules.literal_labels);
+            let table = CollisionTable::for_rules(p, rules);
             let t = CollisionThresholds::new(&table);
             // every boundary of every cumulative threshold, and the ends
             let mut us: Vec<u64> = vec![0, (1 << 32) - 1];
@@ -294,7 +346,11 @@ mod tests {
                 };
                 for (h, w) in all_states().iter().enumerate() {
                     let k = classify(w, fhp_rest);
-                    let out = collide(w, &k, &d);
+                    let out = if literal {
+                        collide_literal(w, &k, &d)
+                    } else {
+                        collide(w, &k, &d)
+                    };
                     for j in 0..64 {
                         let s = 64 * h + j;
                         let e = &table.entries[s];
@@ -303,7 +359,7 @@ mod tests {
                         assert_eq!(
                             (lane(&out.state, j), extra as u8),
                             (o.state, o.extra),
-                            "p {p} fhp {fhp_rest} u {u} state {s:#09b}"
+                            "p {p} {name} u {u} state {s:#09b}"
                         );
                     }
                 }

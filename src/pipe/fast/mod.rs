@@ -62,18 +62,25 @@ fn interval(entry: &Entry, outcome: u8) -> Option<(u64, u64)> {
 }
 
 impl CollisionThresholds {
-    /// The thresholds of `table`, from the states {1, 4} (R1), {1, 3} (R2)
-    /// and {1, 3, 5} (R3); every rotation of a rule has the same
+    /// The thresholds of `table`, from the states {1, 4} (R1), {1, 3} (R2:
+    /// its outcome with a rest particle, in either notation of READINGS.md
+    /// P1) and {1, 3, 5} (R3); every rotation of a rule has the same
     /// probabilities (checked state by state in the tests of [`logic`]).
     pub fn new(table: &CollisionTable) -> Self {
         let set = |cs: &[usize]| cs.iter().fold(0u8, |s, &c| s | bit(c));
-        let first = |state: &[usize], out: &[usize]| -> Option<u64> {
-            let (lo, hi) = interval(&table.entries[set(state) as usize], set(out))?;
+        let first = |state: &[usize], out: u8| -> Option<u64> {
+            let (lo, hi) = interval(&table.entries[set(state) as usize], out)?;
             assert_eq!(lo, 0, "the outcome is the table's first");
             Some(hi)
         };
-        let r1 = first(&[1, 4], &[2, 5]).expect("R1 rotates");
-        let r2 = first(&[1, 3], &[0, 2]).unwrap_or(0);
+        let r1 = first(&[1, 4], set(&[2, 5])).expect("R1 rotates");
+        let e2 = &table.entries[set(&[1, 3]) as usize];
+        let r2 = e2
+            .outcomes
+            .iter()
+            .find(|o| o.state & bit(0) != 0)
+            .and_then(|o| first(&[1, 3], o.state))
+            .unwrap_or(0);
         let e3 = &table.entries[set(&[1, 3, 5]) as usize];
         let mut r3 = [0u64; 3];
         let mut below = 0;
@@ -124,10 +131,11 @@ pub struct FastPipe<R = Xoshiro256PlusPlus> {
 impl FastPipe {
     /// A new run: validates `params` as [`super::Pipe::new`] does, and draws
     /// the initial state of MODEL.md A8 (each moving channel occupied with
-    /// probability rho/6; the open pipe starts empty).
+    /// probability rho/6, or with `wall-sites` each existing one with
+    /// [`Rules::fill_probability`]; the open pipe starts empty).
     pub fn new(params: Params, rules: Rules, seed: u64) -> Result<Self> {
         params.validate()?;
-        rules.validate()?;
+        rules.validate_for(&params)?;
         let (w, l) = (params.width, params.length);
         let mut pipe = FastPipe {
             params,
@@ -135,7 +143,7 @@ impl FastPipe {
             rng: Xoshiro256PlusPlus::seed_from_u64(seed),
             grid: Grid::new(w, l),
             next: Grid::new(w, l),
-            collision: CollisionThresholds::new(&CollisionTable::new(params.p)),
+            collision: CollisionThresholds::new(&CollisionTable::for_rules(params.p, rules)),
             g_t: threshold(params.g),
             b_t: threshold(params.b),
             lane_t: threshold(rules.lane_collide.probability(params.p)),
@@ -188,14 +196,19 @@ impl FastPipe {
 
 impl<R: Rng + Clone + Send> FastPipe<R> {
     /// The random start of the periodic pipe (MODEL.md A8): each moving
-    /// channel of each site occupied with probability rho/6.
+    /// channel of each site occupied with probability rho/6; with
+    /// `wall-sites` each moving channel that exists with rho W / (6 W - 8)
+    /// (READINGS.md P12), the others empty.
     fn random_start(&mut self) {
-        let t = threshold(self.params.rho / 6.0);
-        let words = self.grid.words();
+        let t = threshold(self.rules.fill_probability(&self.params));
+        let (w, words) = (self.params.width, self.grid.words());
         for i in 0..self.grid.cells().len() {
             let lanes = self.grid.lanes(i % words);
-            for plane in &mut self.grid.cells_mut()[i][1..] {
-                *plane = lanes::bernoulli(&mut self.rng, t, lanes);
+            let exists = self.rules.channels_of_column(i / words, w);
+            for (c, plane) in self.grid.cells_mut()[i].iter_mut().enumerate().skip(1) {
+                if exists & bit(c) != 0 {
+                    *plane = lanes::bernoulli(&mut self.rng, t, lanes);
+                }
             }
         }
     }
@@ -226,7 +239,7 @@ impl<R: Rng + Clone + Send> FastPipe<R> {
         check_unit("p", p)?;
         self.params.p = p;
         self.lane_t = threshold(self.rules.lane_collide.probability(p));
-        self.collision = CollisionThresholds::new(&CollisionTable::new(p));
+        self.collision = CollisionThresholds::new(&CollisionTable::for_rules(p, self.rules));
         Ok(())
     }
 
@@ -280,7 +293,8 @@ impl<R: Rng + Clone + Send> SubSteps for FastPipe<R> {
 
     /// Injection (MODEL.md A7): each empty channel 3, 4, 5 of the top row
     /// (channel 4 alone with `inject-down`, READINGS.md P17) is filled with
-    /// probability I; the columns are taken 64 at a time.
+    /// probability I, at a wall site of `wall-sites` only the channel that
+    /// exists there; the columns are taken 64 at a time.
     fn inject(&mut self) {
         let (w, l) = (self.params.width, self.params.length);
         let (k, j) = ((l - 1) / 64, (l - 1) % 64);
@@ -295,7 +309,11 @@ impl<R: Rng + Clone + Send> SubSteps for FastPipe<R> {
             for &c in channels {
                 let cells = self.grid.cells_mut();
                 let site = |x: usize| (first + x) * words + k;
-                let empty = (0..n).fold(0u64, |m, x| m | (!cells[site(x)][c] >> j & 1) << x);
+                let rules = self.rules;
+                let exists = |x: usize| u64::from(rules.channels_of_column(first + x, w) >> c & 1);
+                let empty = (0..n).fold(0u64, |m, x| {
+                    m | (!cells[site(x)][c] >> j & 1 & exists(x)) << x
+                });
                 let fill = lanes::bernoulli(&mut self.rng, self.inject_t, empty);
                 for x in 0..n {
                     cells[site(x)][c] |= (fill >> x & 1) << j;
@@ -311,7 +329,12 @@ impl<R: Rng + Clone + Send> SubSteps for FastPipe<R> {
         self.extras.clear();
         let (w, words) = (self.params.width as u64, self.grid.words());
         let (t, fhp_rest) = (self.collision, self.rules.fhp_rest);
+        let literal = self.rules.literal_labels;
+        let inner = self.rules.inner_columns(self.params.width);
         for (i, s) in self.grid.cells_mut().iter_mut().enumerate() {
+            if !inner.contains(&(i / words)) {
+                continue; // a wall site of `wall-sites`: no collision
+            }
             let k = logic::classify(s, fhp_rest);
             if k.any() == 0 {
                 continue;
@@ -328,7 +351,11 @@ impl<R: Rng + Clone + Send> SubSteps for FastPipe<R> {
                 r2,
                 r3: [a, b, c],
             };
-            let out = logic::collide(s, &k, &d);
+            let out = if literal {
+                logic::collide_literal(s, &k, &d)
+            } else {
+                logic::collide(s, &k, &d)
+            };
             *s = out.state;
             if out.one_extra | out.two_extras != 0 {
                 let (x, y0) = ((i / words) as u64, 64 * (i % words) as u64);
@@ -347,7 +374,8 @@ impl<R: Rng + Clone + Send> SubSteps for FastPipe<R> {
     /// Gravity step (MODEL.md A5): the moves possible before gravity, each
     /// made with probability g (an independent draw per particle), then
     /// `rest-slide` if named. With `rest-ahead` a mover turns only where
-    /// its neighbour ahead holds a rest particle before the sub-step.
+    /// its neighbour ahead holds a rest particle before the sub-step. No
+    /// gravity at the wall sites of `wall-sites`.
     fn gravity(&mut self) {
         if self.g_t == 0 {
             return;
@@ -357,7 +385,14 @@ impl<R: Rng + Clone + Send> SubSteps for FastPipe<R> {
         if ahead_only {
             self.find_rest_ahead();
         }
+        let (inner, words) = (
+            self.rules.inner_columns(self.params.width),
+            self.grid.words(),
+        );
         for (i, s) in self.grid.cells_mut().iter_mut().enumerate() {
+            if !inner.contains(&(i / words)) {
+                continue;
+            }
             let mut m = logic::gravity_moves(s, wording);
             if ahead_only {
                 m.turn2 &= self.ahead[i].0;
@@ -426,7 +461,11 @@ impl<R: Rng + Clone + Send> SubSteps for FastPipe<R> {
             self.count_exits();
         }
         self.grid.stream_into(&mut self.next, periodic);
-        self.reflect_at_walls();
+        if self.rules.wall_sites {
+            self.reflect_on_arrival();
+        } else {
+            self.reflect_at_walls();
+        }
         std::mem::swap(&mut self.grid, &mut self.next);
     }
 
@@ -449,10 +488,10 @@ impl<R: Rng + Clone + Send> FastPipe<R> {
             .iter()
             .map(|&site| ((site % w) as usize, (site / w) as usize))
             .collect();
-        let (params, time, words) = (&self.params, self.time, self.grid.words());
+        let (params, rules, time, words) = (&self.params, self.rules, self.time, self.grid.words());
         let walker = self
             .walker
-            .get_or_insert_with(|| walk::Walker::new(params, words));
+            .get_or_insert_with(|| walk::Walker::new(params, rules, words));
         let rng = &mut self.rng;
         relocation::relocate_with(
             &mut self.grid,
@@ -551,6 +590,26 @@ impl<R: Rng + Clone + Send> FastPipe<R> {
                 let bounce = lanes::bernoulli(&mut self.rng, self.b_t, a ^ b);
                 let (ra, rb) = logic::reflect(a, b, bounce);
                 let n = &mut self.next.column_mut(x)[k];
+                n[out[0]] |= ra;
+                n[out[1]] |= rb;
+            }
+        }
+    }
+
+    /// `wall-sites` (READINGS.md P12): the wall rule of MODEL.md A6 at the
+    /// wall sites, on the particles that have just arrived there (heading
+    /// into the wall), as the reference does: each leaves in its reflected
+    /// channel, one of the two inward diagonals.
+    fn reflect_on_arrival(&mut self) {
+        let last = self.params.width - 1;
+        for (x, into, out) in [(0, [2, 3], [5, 6]), (last, [6, 5], [3, 2])] {
+            for k in 0..self.next.words() {
+                let n = &mut self.next.column_mut(x)[k];
+                let (a, b) = (n[into[0]], n[into[1]]);
+                let bounce = lanes::bernoulli(&mut self.rng, self.b_t, a ^ b);
+                let (ra, rb) = logic::reflect(a, b, bounce);
+                n[into[0]] = 0;
+                n[into[1]] = 0;
                 n[out[0]] |= ra;
                 n[out[1]] |= rb;
             }
@@ -671,8 +730,8 @@ impl<R: Rng + Clone + Send> PipeEngine for FastPipe<R> {
 /// Builds [`FastPipe`] runs: the engine `fast` of `validate` and the figures.
 /// Every rule reading of [`Rules`] is supported (all four gravity
 /// wordings, `wall-drag`, `gravity-first`, `gravity-last`, `rest-up`,
-/// `wall-move`, `rest-slide`, `fhp-rest`), so `build` fails only on invalid
-/// parameters or an invalid reading.
+/// `wall-move`, `rest-slide`, `fhp-rest`, `literal-labels`, `wall-sites`),
+/// so `build` fails only on invalid parameters or an invalid reading.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Fast;
 

@@ -20,7 +20,7 @@ use super::lanes;
 use crate::error::Result;
 use crate::lattice::neighbour;
 use crate::pipe::relocation;
-use crate::pipe::{Boundary, Params};
+use crate::pipe::{Boundary, Params, Rules};
 use rand::Rng;
 
 /// A site's name in the table: an index into the rest plane.
@@ -68,14 +68,16 @@ pub struct Walker {
 }
 
 impl Walker {
-    /// The table of the pipe `params` stored with `words` words per column.
-    pub fn new(params: &Params, words: usize) -> Self {
+    /// The table of the pipe `params` under `rules` (its walls: the wall
+    /// sites of `wall-sites` are left out as the walls are), stored with
+    /// `words` words per column.
+    pub fn new(params: &Params, rules: Rules, words: usize) -> Self {
         let stride = 64 * words;
         let mut count = vec![0u8; params.width * stride];
         let next = if params.width * stride <= 1 << 16 {
-            Table::Small(table(params, stride, &mut count))
+            Table::Small(table(params, rules, stride, &mut count))
         } else {
-            Table::Large(table(params, stride, &mut count))
+            Table::Large(table(params, rules, stride, &mut count))
         };
         Walker {
             stride,
@@ -146,17 +148,18 @@ impl Walker {
 
 /// The valid neighbours of every site of `params` (rest-plane bits with
 /// `stride` per column), and their number into `count`.
-fn table<S: Site>(params: &Params, stride: usize, count: &mut [u8]) -> Vec<[S; 6]> {
+fn table<S: Site>(params: &Params, rules: Rules, stride: usize, count: &mut [u8]) -> Vec<[S; 6]> {
     let (w, l) = (params.width, params.length);
     let periodic = params.boundary == Boundary::Periodic;
+    let inner = rules.inner_columns(w);
     let mut next = vec![[S::default(); 6]; w * stride];
-    for x in 0..w {
+    for x in inner.clone() {
         for y in 0..l {
             let s = x * stride + y;
             let mut n = 0;
             for c in 1..=6 {
                 let (nx, ny) = neighbour(x, y, c);
-                if nx < 0 || nx >= w as i64 {
+                if nx < inner.start as i64 || nx >= inner.end as i64 {
                     continue;
                 }
                 let ny = if periodic {
@@ -208,16 +211,24 @@ mod tests {
     #[test]
     fn the_table_walk_is_the_reference_walk() {
         let shapes = [
-            (1, 7, false),
-            (2, 1, false),
-            (1, 3, true),
-            (5, 60, false),
-            (5, 60, true),
-            (11, 220, false),
-            (4, 130, true),
-            (3, 22000, false),
+            (1, 7, false, false),
+            (2, 1, false, false),
+            (1, 3, true, false),
+            (5, 60, false, false),
+            (5, 60, true, false),
+            (11, 220, false, false),
+            (4, 130, true, false),
+            (3, 22000, false, false),
+            (3, 7, true, true),
+            (5, 60, false, true),
+            (11, 220, true, true),
+            (4, 130, false, true),
         ];
-        for (w, l, periodic) in shapes {
+        for (w, l, periodic, wall_sites) in shapes {
+            let rules = Rules {
+                wall_sites,
+                ..Rules::default()
+            };
             let params = Params {
                 width: w,
                 length: l,
@@ -231,7 +242,7 @@ mod tests {
             let holes = 1 + w * l / 20;
             let mut a = nearly_full(&params, holes, 7);
             let mut b = a.clone();
-            let walker = Walker::new(&params, a.words());
+            let walker = Walker::new(&params, rules, a.words());
             assert_eq!(
                 matches!(walker.next, Table::Large(_)),
                 w * a.words() * 64 > 1 << 16
@@ -239,10 +250,13 @@ mod tests {
             let mut ra = Xoshiro256PlusPlus::seed_from_u64(w as u64 * 1000 + l as u64);
             let mut rb = ra.clone();
             // at most half the holes: the last walks to the last holes are long
-            for i in 0..(holes / 2).clamp(1, 300) {
-                let (x, y) = (i * 7 % w, i * 13 % l);
+            // (with wall-sites about (W - 2)/W of the holes can be reached)
+            let inner = rules.inner_columns(w);
+            for i in 0..(holes / 2 * inner.len() / w).clamp(1, 300) {
+                let (x, y) = (inner.start + i * 7 % inner.len(), i * 13 % l);
                 let fast = walker.walk(&mut a, &mut ra, &params, (x, y), 0);
-                let slow = random_walk(&mut b, &mut |n| lanes::below(&mut rb, n), &params, x, y, 0);
+                let below = &mut |n| lanes::below(&mut rb, n);
+                let slow = random_walk(&mut b, below, &params, rules, x, y, 0);
                 assert_eq!(fast.is_ok(), slow.is_ok(), "{w}x{l} walk {i}");
                 assert_eq!(ra, rb, "{w}x{l} walk {i}: the draws differ");
                 assert!(
@@ -264,7 +278,7 @@ mod tests {
             ..Params::default()
         };
         let mut g = nearly_full(&params, 0, 1);
-        let walker = Walker::new(&params, g.words());
+        let walker = Walker::new(&params, Rules::default(), g.words());
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(1);
         let e = walker
             .walk(&mut g, &mut rng, &params, (0, 0), 3)
