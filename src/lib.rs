@@ -138,6 +138,7 @@ pub mod hopper;
 pub mod lattice;
 pub mod pipe;
 pub mod plot;
+pub mod readings_map;
 pub mod report;
 pub mod run;
 pub mod speed;

@@ -26,13 +26,14 @@ use std::time::Instant;
 const CARGO_TOML: &str = include_str!("../Cargo.toml");
 
 /// Binaries that are not figures (no `summary.json` of a figure): never run.
-const NOT_FIGURES: [&str; 12] = [
+const NOT_FIGURES: [&str; 13] = [
     "acceptance",
     "bench",
     "bridge",
     "explore",
     "fuzz",
     "merge",
+    "readings-map",
     "report",
     "sequential-design",
     "speed-accuracy",
@@ -928,7 +929,9 @@ pub fn run(opts: &Options) -> Result<Report> {
 
 /// Figure `binary` as found in `out` without running it (`--no-run`): ok
 /// when `out/<binary>/summary.json` exists, with that summary's wall time.
-fn summary_only(out: &Path, binary: &str) -> FigureRun {
+/// The run of figure `binary` as recorded by its summary already in `out`
+/// (`--no-run`, or a resumed run): ok when the summary exists.
+pub fn summary_only(out: &Path, binary: &str) -> FigureRun {
     let path = out.join(binary).join("summary.json");
     let wall = std::fs::read_to_string(&path)
         .ok()

@@ -22,7 +22,7 @@ const LAYERS: [&[&str]; 9] = [
     &["pipe"],
     &["validate", "cli"],
     &["drivers", "report", "experiments"],
-    &["speed", "fuzz"],
+    &["speed", "fuzz", "readings_map"],
 ];
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
