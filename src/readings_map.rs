@@ -516,14 +516,12 @@ pub fn draw<DB: DrawingBackend>(
         root.draw(&Text::new(s.to_string(), at, (FONT, size)))
             .map_err(plot_err)
     };
-    text(
-        &format!(
-            "PH94/PH95 published claims x readings of the rule text ({} tier, {} engine)",
-            map.tier, map.engine
-        ),
-        (10, 10),
-        20,
-    )?;
+    let title = format!(
+        "PH94/PH95 published claims x readings of the rule text ({} tier, {} engine)",
+        map.tier, map.engine
+    );
+    let fit = crate::plot::caption_size(&title, root.dim_in_pixel().0, 20.0);
+    text(&title, (10, 10), fit as u32)?;
     text(
         "green: reproduced, red: not reproduced, grey: undecided, white: not run",
         (10, 36),
