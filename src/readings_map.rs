@@ -250,13 +250,18 @@ pub fn run(base: &Options, readings: &[(String, String)]) -> Result<Map> {
         }
         per_reading.push(report::collect(&opts, runs).rows);
     }
-    Ok(assemble(
-        base.tier,
-        &engine,
-        readings,
-        &per_reading,
-        failures,
-    ))
+    let map = assemble(base.tier, &engine, readings, &per_reading, failures);
+    if map.claims.is_empty() {
+        return Err(Error::new(
+            ErrorKind::InvalidParameter,
+            format!(
+                "no published check of any pipe figure in {} ({} tier): run without --no-run, or name the folder holding <reading>/<figure>/summary.json",
+                base.out.display(),
+                base.tier.name()
+            ),
+        ));
+    }
+    Ok(map)
 }
 
 /// The map from each reading's report rows (its published checks of the
