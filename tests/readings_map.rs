@@ -87,7 +87,7 @@ fn the_committed_reports_pipe_checks_render_as_one_column() {
 }
 
 #[test]
-fn unknown_readings_and_empty_folders_are_refused() {
+fn unknown_readings_and_empty_folders_are_refused_with_exit_2() {
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("readings-map-empty");
     let _ = std::fs::remove_dir_all(&out);
     let run = |args: &[&str]| {
@@ -97,7 +97,8 @@ fn unknown_readings_and_empty_folders_are_refused() {
             .arg(&out)
             .output()
             .unwrap();
-        assert!(!o.status.success());
+        // usage errors exit 2, as in every binary
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
         String::from_utf8_lossy(&o.stderr).to_string()
     };
     let e = run(&["--readings", "default,nonsense", "--no-run"]);
