@@ -25,6 +25,7 @@ use crate::pipe::open::{
 use crate::pipe::{Engine, Params, Rules};
 use crate::plot::{errorbar_chart_marked, free_corner_rows, line_chart, ErrSeries, Line, PALETTE};
 use crate::run::{mark_discrepancies, Check, Output};
+use plotters::chart::SeriesLabelPosition;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -525,6 +526,7 @@ pub fn plot_nt(
         "particle number N(t)",
         &nlines,
         false,
+        SeriesLabelPosition::UpperRight,
     )
 }
 

@@ -19,6 +19,7 @@ use crate::hopper::picture::{draw_snapshots, outflow_charts, spectrum_chart, Pan
 use crate::hopper::{Geometry, Hopper, HopperParams};
 use crate::plot::{line_chart, points, Line, PALETTE};
 use crate::run::{mean_sem_at, mean_sem_by, metrics_of, stat_metrics, Check, Output, Tier};
+use plotters::chart::SeriesLabelPosition;
 use std::collections::BTreeMap;
 
 /// BB90 Fig. 2a, central core: (activity at centre + 1e-3)/(next to walls
@@ -203,6 +204,7 @@ impl Fig2Runs {
             "fraction of iterations with a moving grain",
             &lines,
             false,
+            SeriesLabelPosition::UpperRight,
         )?;
         glines.push(Line::new(
             "random: 1/3",
@@ -217,6 +219,7 @@ impl Fig2Runs {
             "fraction of pairs with equal orientation",
             &glines,
             false,
+            SeriesLabelPosition::UpperRight,
         )
     }
 
