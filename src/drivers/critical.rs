@@ -632,18 +632,10 @@ mod tests {
             "I0.49_lower_end" => 0.9, // on the margin's edge (0.1)
             _ => 2.0,                 // read by no check
         };
-        let mut asked: Vec<(String, usize)> = Vec::new();
-        let (results, checks) = sweep_looks(
-            &design,
-            &points,
-            |p, n, _| {
-                asked.push((p.label.clone(), n));
-                Ok(Some(PointResult::of_alpha(p, alpha(&p.label), 0.05, n)))
-            },
-            |rs| spectrum_checks(rs, true, i_c),
-        )
-        .unwrap()
-        .unwrap();
+        let (results, checks, asked) =
+            PointResult::looks_of_alpha(&design, &points, alpha, 0.05, |rs| {
+                spectrum_checks(rs, true, i_c)
+            });
         let runs = |label: &str| {
             results
                 .iter()
