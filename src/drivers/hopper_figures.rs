@@ -360,6 +360,15 @@ pub fn slope_jackknife_se(records: &[Record], m: usize) -> Result<f64> {
     })
 }
 
+/// The cases of hopper figure `binary`'s `--cases` (`cases`, keys of
+/// [`Case::ALL`]); a `--shard` in `c` is refused, as the figure keeps all its
+/// runs in one process.
+pub fn cases_of(c: &crate::cli::Common, cases: &str, binary: &str) -> Result<Vec<Case>> {
+    let cases = Case::parse_list(cases)?;
+    c.reject_shard(binary)?;
+    Ok(cases)
+}
+
 /// BB90 Fig. 3's set-up at `tier`: the hopper (quick: small; standard:
 /// 174 x 129; paper and acceptance: 270 x 200, whose stationary window
 /// covers the 6144 recorded iterations), the plan and the spectrum's m.
