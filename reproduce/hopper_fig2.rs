@@ -8,7 +8,7 @@
 
 use clap::Parser;
 use granular_automata::cli::Common;
-use granular_automata::drivers::hopper_figures::Fig2Runs;
+use granular_automata::drivers::hopper_figures::{cases_of, Fig2Runs};
 use granular_automata::hopper::experiment::{Case, Plan};
 use granular_automata::hopper::HopperParams;
 use granular_automata::run::{run_seeds, Figure};
@@ -34,8 +34,7 @@ granular_automata::main_of!(body);
 fn body() -> granular_automata::Result<()> {
     let args = Args::parse();
     let c = &args.common;
-    let cases = Case::parse_list(&args.cases)?;
-    c.reject_shard("hopper-fig2")?;
+    let cases = cases_of(c, &args.cases, "hopper-fig2")?;
     let tier = c.tier;
     let runs = c.runs_or(3, 4, 8);
     let base = tier.pick(

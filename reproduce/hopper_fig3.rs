@@ -10,7 +10,7 @@
 use clap::Parser;
 use granular_automata::cli::Common;
 use granular_automata::drivers::hopper_figures::{
-    draw_fig3, fig3_readings, fig3_setup, FIG3_RECORD,
+    cases_of, draw_fig3, fig3_readings, fig3_setup, FIG3_RECORD,
 };
 use granular_automata::hopper::experiment::{run_cases, Case};
 use granular_automata::hopper::experiment::{WINDOW_BLOCK, WINDOW_FULL, WINDOW_SKIP};
@@ -37,9 +37,8 @@ granular_automata::main_of!(body);
 fn body() -> granular_automata::Result<()> {
     let args = Args::parse();
     let c = &args.common;
-    let cases = Case::parse_list(&args.cases)?;
+    let cases = cases_of(c, &args.cases, "hopper-fig3")?;
     let cases = &cases[..];
-    c.reject_shard("hopper-fig3")?;
     let tier = c.tier;
     let accepted = granular_automata::drivers::acceptance::margin("hopper-fig3", "white_spectrum");
     let runs = c.runs_for(3, 4, 4, accepted.map_or(4, |m| m.runs));

@@ -6,7 +6,7 @@
 //!
 //! `cargo run --release --bin validate-detection -- docs/validate-detection`
 
-use granular_automata::plot::{line_chart_at, register_fonts, Line, PALETTE};
+use granular_automata::plot::{line_chart, register_fonts, Line, PALETTE};
 use granular_automata::validate::detect::{check_row, defect_table, Row};
 use plotters::prelude::{RGBColor, SeriesLabelPosition};
 use std::collections::BTreeSet;
@@ -94,7 +94,7 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
             "rule probability too high by e (%)",
             "share of validations that fail",
         );
-        line_chart_at(
+        line_chart(
             &path,
             &title,
             x,

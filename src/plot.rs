@@ -314,28 +314,9 @@ fn tick(v: f64, log: bool) -> String {
     }
 }
 
-/// Draw a line chart to `path` (PNG). `log` makes both axes logarithmic.
+/// Draw a line chart to `path` (PNG) with the legend at `legend`. `log`
+/// makes both axes logarithmic.
 pub fn line_chart(
-    path: &Path,
-    title: &str,
-    xlabel: &str,
-    ylabel: &str,
-    lines: &[Line],
-    log: bool,
-) -> Result<()> {
-    line_chart_at(
-        path,
-        title,
-        xlabel,
-        ylabel,
-        lines,
-        log,
-        SeriesLabelPosition::UpperRight,
-    )
-}
-
-/// [`line_chart`] with the legend at `legend`.
-pub fn line_chart_at(
     path: &Path,
     title: &str,
     xlabel: &str,
@@ -361,7 +342,7 @@ pub fn line_chart_at(
     })
 }
 
-/// The axes, `lines` and legend of [`line_chart_at`] (linear or log-log).
+/// The axes, `lines` and legend of [`line_chart`] (linear or log-log).
 fn draw_lines<'a, DB: DrawingBackend + 'a, X, Y>(
     mut chart: ChartContext<'a, DB, Cartesian2d<X, Y>>,
     xlabel: &str,

@@ -1622,6 +1622,49 @@ fn undecided(r: &Report) -> Vec<&Row> {
         .collect()
 }
 
+/// One list item per row of `rows` (the known discrepancies, the undecided
+/// claims): the claim, its published and measured values and `why` of it;
+/// in markdown, or escaped in HTML when `html`.
+fn claim_items(out: &mut String, rows: &[&Row], html: bool, why: impl Fn(&Row) -> String) {
+    for x in rows {
+        let [paper, figure, name, given, got, why] = [
+            x.paper.clone(),
+            x.figure.clone(),
+            x.name.clone(),
+            published(x),
+            measured(x),
+            why(x),
+        ]
+        .map(|t| if html { esc(&t) } else { t });
+        let _ = if html {
+            writeln!(
+                out,
+                "<li>{paper} {figure} <code>{name}</code>: published {given}, measured {got}: {why}</li>"
+            )
+        } else {
+            writeln!(
+                out,
+                "- {paper} {figure} `{name}`: published {given}, measured {got}: {why}"
+            )
+        };
+    }
+}
+
+/// The figures of `r` whose binary failed.
+fn failed_figures(r: &Report) -> Vec<&FigureReport> {
+    r.figures.iter().filter(|f| !f.run.ok).collect()
+}
+
+/// Why figure `f` failed: its binary's failure, then why its summary could
+/// not be read, if so, in parentheses.
+fn why_failed(f: &FigureReport) -> String {
+    let failure = f.run.failure.as_deref().unwrap_or("");
+    match &f.summary_problem {
+        Some(p) => format!("{failure} ({p})"),
+        None => failure.to_string(),
+    }
+}
+
 /// Published claims of the default reading: (reproduced, not reproduced,
 /// undecided) of the rows `rows`.
 fn tally<'a>(rows: impl Iterator<Item = &'a Row>) -> [usize; 3] {
@@ -1685,19 +1728,11 @@ pub fn markdown(r: &Report) -> String {
     let _ = writeln!(m, "- checks by verdict: {}", list(&c.verdicts));
     let _ = writeln!(m, "- checks by kind: {}", list(&c.kinds));
     let _ = writeln!(m, "- figures: {}\n", r.figures.len());
-    let failed: Vec<_> = r.figures.iter().filter(|f| !f.run.ok).collect();
+    let failed = failed_figures(r);
     if !failed.is_empty() {
         let _ = writeln!(m, "## Failed figures\n");
         for f in failed {
-            let _ = writeln!(
-                m,
-                "- **{}**: {}{}",
-                f.run.binary,
-                f.run.failure.as_deref().unwrap_or(""),
-                f.summary_problem
-                    .as_ref()
-                    .map_or(String::new(), |p| format!(" ({p})"))
-            );
+            let _ = writeln!(m, "- **{}**: {}", f.run.binary, why_failed(f));
             if !f.run.stderr_tail.is_empty() {
                 let _ = writeln!(m, "\n  ```text");
                 for l in &f.run.stderr_tail {
@@ -1773,36 +1808,16 @@ pub fn markdown(r: &Report) -> String {
         "Published claims of the default reading not reproduced at this tier, each with the mechanism its check records; the explanations are in [EXPERIMENTS.md]({}).\n",
         r.discrepancy_link
     );
-    for x in &d {
-        let _ = writeln!(
-            m,
-            "- {} {} `{}`: published {}, measured {}: {}",
-            x.paper,
-            x.figure,
-            x.name,
-            published(x),
-            measured(x),
-            md_cell(&one_line(&x.note, MECHANISM_CHARS))
-        );
-    }
+    claim_items(&mut m, &d, false, |x| {
+        md_cell(&one_line(&x.note, MECHANISM_CHARS))
+    });
     let u = undecided(r);
     let _ = writeln!(m, "\n## Undecided ({})\n", u.len());
     let _ = writeln!(
         m,
         "Published claims of the default reading that this tier does not decide, each with what would decide it (the grading rule, |d| +- k SE against the margin with k = max(2, Student t), the SE shrinking as 1/sqrt(runs)).\n"
     );
-    for x in &u {
-        let _ = writeln!(
-            m,
-            "- {} {} `{}`: published {}, measured {}: {}",
-            x.paper,
-            x.figure,
-            x.name,
-            published(x),
-            measured(x),
-            x.what_would_decide()
-        );
-    }
+    claim_items(&mut m, &u, false, Row::what_would_decide);
     let table = |m: &mut String, rows: &[&Row]| {
         let _ = writeln!(m, "| paper | figure | check: claim | published | measured ± SE | verdict | kind | rule reading | site updates |");
         let _ = writeln!(m, "|---|---|---|---|---|---|---|---|---|");
@@ -2048,18 +2063,15 @@ pub fn html(r: &Report) -> String {
         esc(&list(&c.verdicts)),
         esc(&list(&c.kinds))
     );
-    let failed: Vec<_> = r.figures.iter().filter(|f| !f.run.ok).collect();
+    let failed = failed_figures(r);
     if !failed.is_empty() {
         let _ = writeln!(h, "<h2>Failed figures</h2>");
         for f in failed {
             let _ = writeln!(
                 h,
-                "<p class=\"not-reproduced\"><b>{}</b>: {}{}</p>",
+                "<p class=\"not-reproduced\"><b>{}</b>: {}</p>",
                 esc(&f.run.binary),
-                esc(f.run.failure.as_deref().unwrap_or("")),
-                f.summary_problem
-                    .as_ref()
-                    .map_or(String::new(), |p| format!(" ({})", esc(p)))
+                esc(&why_failed(f))
             );
             if !f.run.stderr_tail.is_empty() {
                 let _ = writeln!(h, "<pre>{}</pre>", esc(&f.run.stderr_tail.join("\n")));
@@ -2123,32 +2135,10 @@ pub fn html(r: &Report) -> String {
     let d = discrepancies(r);
     let _ = writeln!(h, "<h2>Known discrepancies ({})</h2>", d.len());
     let _ = writeln!(h, "<p>Published claims of the default reading not reproduced at this tier, each with the mechanism its check records; the explanations are in <a href=\"{}\">EXPERIMENTS.md, Known discrepancies</a>.</p>\n<ul>", esc(&r.discrepancy_link));
-    for x in &d {
-        let _ = writeln!(
-            h,
-            "<li>{} {} <code>{}</code>: published {}, measured {}: {}</li>",
-            esc(&x.paper),
-            esc(&x.figure),
-            esc(&x.name),
-            esc(&published(x)),
-            esc(&measured(x)),
-            esc(&one_line(&x.note, MECHANISM_CHARS))
-        );
-    }
+    claim_items(&mut h, &d, true, |x| one_line(&x.note, MECHANISM_CHARS));
     let u = undecided(r);
     let _ = writeln!(h, "</ul>\n<h2>Undecided ({})</h2>\n<p>Published claims of the default reading this tier does not decide, each with what would decide it (the grading rule, |d| +- k SE against the margin with k = max(2, Student t), the SE shrinking as 1/sqrt(runs)).</p>\n<ul>", u.len());
-    for x in &u {
-        let _ = writeln!(
-            h,
-            "<li>{} {} <code>{}</code>: published {}, measured {}: {}</li>",
-            esc(&x.paper),
-            esc(&x.figure),
-            esc(&x.name),
-            esc(&published(x)),
-            esc(&measured(x)),
-            esc(&x.what_would_decide())
-        );
-    }
+    claim_items(&mut h, &u, true, Row::what_would_decide);
     let (own, other): (Vec<&Row>, Vec<&Row>) = r.rows.iter().partition(|x| x.reading.is_none());
     let table = |h: &mut String, rows: &[&Row]| {
         let _ = writeln!(h, "<div class=\"scroll\"><table>\n<thead><tr><th>paper</th><th>figure</th><th>check: claim</th><th>published (margin)</th><th>measured ± SE</th><th>verdict</th><th>kind</th><th>rule reading</th><th>site updates</th></tr></thead>\n<tbody>");

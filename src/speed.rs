@@ -20,7 +20,7 @@
 
 use crate::analysis::grading::{coverage_factor, Estimate};
 use crate::error::{Error, ErrorKind, Result};
-use crate::plot::{line_chart_at, Line, PALETTE};
+use crate::plot::{line_chart, Line, PALETTE};
 use crate::report::{run_figure, Options};
 use crate::run::Tier;
 use plotters::prelude::{RGBColor, SeriesLabelPosition};
@@ -525,7 +525,7 @@ pub fn write(dir: &Path, points: &[Point]) -> Result<()> {
             RGBColor(150, 150, 150),
         ));
     }
-    line_chart_at(
+    line_chart(
         &dir.join("speed-accuracy.png"),
         "granular-automata: error bar of each figure's key statistic against its CPU cost",
         "CPU seconds (all threads)",

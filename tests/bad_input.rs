@@ -6,11 +6,14 @@
 
 mod common;
 
-use std::path::PathBuf;
-use std::process::Command;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 /// u64::MAX, the largest number a count option can be given.
 const HUGE: &str = "18446744073709551615";
+
+/// waves-fig9 over one point (rho = 5.99) with one run: a quick sweep.
+const SWEEP_ONE_RUN: [&str; 4] = ["--rho", "5.99", "--runs", "1"];
 
 /// Run `exe` with `args` (figure binaries: output into a scratch folder,
 /// `bench` and `explore` write nothing); assert it fails
@@ -31,10 +34,43 @@ fn refused(exe: &str, args: &[&str], want: &[&str]) -> i32 {
         "{exe} {args:?}: exit {code:?} (a panic is 101, an abort a signal): {err}"
     );
     assert!(!err.contains("panicked"), "{exe} {args:?} panicked: {err}");
-    for w in want {
-        assert!(err.contains(w), "{exe} {args:?}: '{w}' not in: {err}");
-    }
+    assert_has(&err, want);
     code.expect("an exit code")
+}
+
+/// Run `exe` with `args` and `--out out`, to its end.
+fn run_out(exe: &str, args: &[&str], out: &Path) -> Output {
+    Command::new(exe)
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .expect("the binary runs")
+}
+
+/// [`run_out`], asserting that the run succeeded; its standard output.
+fn ran(exe: &str, args: &[&str], out: &Path) -> String {
+    let o = run_out(exe, args, out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// `report --no-run` of the hopper-fig3 folder of `r` at the acceptance
+/// tier, with `extra` arguments.
+fn report_hopper_fig3(r: &Path, extra: &[&str]) -> Output {
+    let args = ["--no-run", "--only", "hopper-fig3", "--tier", "acceptance"];
+    run_out(
+        env!("CARGO_BIN_EXE_report"),
+        &[&args[..], extra].concat(),
+        r,
+    )
+}
+
+/// Assert that `text` contains every one of `want`.
+fn assert_has(text: &str, want: &[&str]) {
+    for w in want {
+        assert!(text.contains(w), "'{w}' not in: {text}");
+    }
 }
 
 #[test]
@@ -132,7 +168,7 @@ fn merge_errors_name_the_path() {
 
 /// A scratch folder of this test file, emptied.
 /// The JSON file at `path` (a summary, a run file).
-fn json_at(path: &std::path::Path) -> serde_json::Value {
+fn json_at(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
@@ -349,11 +385,8 @@ fn a_folder_in_the_way_of_summary_json_is_named() {
     let out = scratch("summary-folder");
     let fig = out.join("waves-fig3");
     std::fs::create_dir_all(fig.join("summary.json")).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_waves-fig3"))
-        .args(["--runs", "1", "--steps", "480", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let args = ["--runs", "1", "--steps", "480"];
+    let o = run_out(env!("CARGO_BIN_EXE_waves-fig3"), &args, &out);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
     let path = fig.join("summary.json");
@@ -376,15 +409,8 @@ fn merge_rejects_foreign_runs_and_empty_or_file_shards() {
     let fig3 = env!("CARGO_BIN_EXE_waves-fig3");
     let shard = |name: &str, shard: &str, extra: &[&str]| {
         let out = dir.join(name);
-        let status = Command::new(fig3)
-            .args(["--runs", "2", "--shard", shard])
-            .args(extra)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap()
-            .status;
-        assert!(status.success(), "{name}");
+        let args = [&["--runs", "2", "--shard", shard][..], extra].concat();
+        assert!(run_out(fig3, &args, &out).status.success(), "{name}");
         let runs = out.join("waves-fig3").join("runs");
         let hash = std::fs::read_dir(&runs).unwrap().next().unwrap().unwrap();
         hash.path()
@@ -413,9 +439,7 @@ fn merge_rejects_foreign_runs_and_empty_or_file_shards() {
             .unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{err}");
-        for w in want {
-            assert!(err.contains(w), "'{w}' not in: {err}");
-        }
+        assert_has(&err, want);
         assert!(!target.exists(), "nothing is copied: {err}");
     };
     let good_out = dir.join("good");
@@ -469,33 +493,16 @@ fn report_folder_with_hopper_fig3(name: &str) -> Option<PathBuf> {
 /// included, and then fail to copy it.
 #[test]
 fn report_refuses_to_publish_into_its_own_out_and_deletes_nothing() {
-    let report = env!("CARGO_BIN_EXE_report");
     let Some(r) = report_folder_with_hopper_fig3("publish-into-out") else {
         return;
     };
     let files = |d: &PathBuf| std::fs::read_dir(d).unwrap().count();
     let before = files(&r.join("hopper-fig3"));
     for publish in [r.clone(), r.join("copy"), r.join("hopper-fig3")] {
-        let o = Command::new(report)
-            .args([
-                "--no-run",
-                "--only",
-                "hopper-fig3",
-                "--tier",
-                "acceptance",
-                "--out",
-            ])
-            .arg(&r)
-            .arg("--publish")
-            .arg(&publish)
-            .output()
-            .unwrap();
+        let o = report_hopper_fig3(&r, &["--publish", publish.to_str().unwrap()]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{publish:?}: {err}");
-        assert!(
-            err.contains("--publish") && err.contains("apart from --out"),
-            "{err}"
-        );
+        assert_has(&err, &["--publish", "apart from --out"]);
         assert_eq!(
             files(&r.join("hopper-fig3")),
             before,
@@ -510,7 +517,6 @@ fn report_refuses_to_publish_into_its_own_out_and_deletes_nothing() {
 /// not write is refused, and the file is kept; a clean one is published.
 #[test]
 fn report_publish_keeps_what_it_did_not_write() {
-    let report = env!("CARGO_BIN_EXE_report");
     let Some(r) = report_folder_with_hopper_fig3("publish-foreign-file") else {
         return;
     };
@@ -518,22 +524,7 @@ fn report_publish_keeps_what_it_did_not_write() {
     let _ = std::fs::remove_dir_all(&dest);
     std::fs::create_dir_all(dest.join("hopper-fig3")).unwrap();
     std::fs::write(dest.join("hopper-fig3/notes.txt"), "mine").unwrap();
-    let publish = |d: &PathBuf| {
-        Command::new(report)
-            .args([
-                "--no-run",
-                "--only",
-                "hopper-fig3",
-                "--tier",
-                "acceptance",
-                "--out",
-            ])
-            .arg(&r)
-            .arg("--publish")
-            .arg(d)
-            .output()
-            .unwrap()
-    };
+    let publish = |d: &PathBuf| report_hopper_fig3(&r, &["--publish", d.to_str().unwrap()]);
     let o = publish(&dest);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
@@ -668,12 +659,7 @@ fn validate_fails_a_candidate_that_breaks_the_bin_identity() {
             "pipe",
         ];
         let start = std::time::Instant::now();
-        let o = Command::new(exe)
-            .args(args)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
+        let o = run_out(exe, &args, &out);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{tag}: {err}");
         assert!(err.contains("FAILS") && err.contains(want), "{tag}: {err}");
@@ -700,22 +686,11 @@ fn validate_caps_the_length_of_a_candidate_line() {
     let exe = env!("CARGO_BIN_EXE_validate");
     let out = scratch("long-line");
     let cand = "cmd:f() { head -c 50000000 /dev/zero | tr '\\0' x; }; f";
-    let o = Command::new(exe)
-        .args([
-            "--candidate",
-            cand,
-            "--level",
-            "1",
-            "--model",
-            "pipe",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let args = ["--candidate", cand, "--level", "1", "--model", "pipe"];
+    let o = run_out(exe, &args, &out);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains("bytes") && err.contains("its plan"), "{err}");
+    assert_has(&err, &["bytes", "its plan"]);
 }
 
 /// SIGINT to `validate` stops the external candidate it is running (its
@@ -761,13 +736,7 @@ fn report_over_edited_summary(
     let path = r.join("hopper-fig3/summary.json");
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::write(&path, edit(&text)).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_report"))
-        .args(["--no-run", "--only", "hopper-fig3", "--tier", "acceptance"])
-        .args(extra)
-        .arg("--out")
-        .arg(&r)
-        .output()
-        .unwrap();
+    let o = report_hopper_fig3(&r, extra);
     let all = format!(
         "{}{}",
         String::from_utf8_lossy(&o.stdout),
@@ -885,10 +854,7 @@ fn report_seed_sets_refuse_copies_and_mismatches() {
     seal(&[]);
     let (_, all) =
         report_over_edited_summary("copied-set", &|t| t.to_string(), &seed_sets).unwrap();
-    assert!(
-        all.contains("counts once") && all.contains("seed-99"),
-        "{all}"
-    );
+    assert_has(&all, &["counts once", "seed-99"]);
     let mut other: serde_json::Value = serde_json::from_str(&five).unwrap();
     other["seeds"][0] = 7.into();
     other["tier"] = "paper".into();
@@ -896,10 +862,7 @@ fn report_seed_sets_refuse_copies_and_mismatches() {
     seal(&["seed-99".into()]);
     let (_, all) =
         report_over_edited_summary("other-set-up", &|t| t.to_string(), &seed_sets).unwrap();
-    assert!(
-        all.contains("share one set-up") && all.contains("tier paper"),
-        "{all}"
-    );
+    assert_has(&all, &["share one set-up", "tier paper"]);
 }
 
 /// PNGs and CSVs an earlier run left in a figure's folder (e.g. before
@@ -912,36 +875,17 @@ fn stale_outputs_of_an_earlier_run_are_named_and_not_reported() {
     std::fs::create_dir_all(&fig).unwrap();
     std::fs::write(fig.join("old-plot.png"), b"not a picture of this run").unwrap();
     std::fs::write(fig.join("old.csv"), b"a,b\n").unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_waves-fig3"))
-        .args(["--runs", "1", "--steps", "480", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(
-        text.contains("old-plot.png") && text.contains("stale_files"),
-        "{text}"
-    );
+    let args = ["--runs", "1", "--steps", "480"];
+    let text = ran(env!("CARGO_BIN_EXE_waves-fig3"), &args, &out);
+    assert_has(&text, &["old-plot.png", "stale_files"]);
     let s = json_at(&fig.join("summary.json"));
     assert_eq!(
         s["stale_files"],
         serde_json::json!(["old-plot.png", "old.csv"])
     );
     assert!(fig.join("old-plot.png").is_file(), "kept");
-    let r = Command::new(env!("CARGO_BIN_EXE_report"))
-        .args([
-            "--no-run",
-            "--only",
-            "waves-fig3",
-            "--tier",
-            "quick",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let args = ["--no-run", "--only", "waves-fig3", "--tier", "quick"];
+    ran(env!("CARGO_BIN_EXE_report"), &args, &out);
     let page = std::fs::read_to_string(out.join("report/REPORT.md")).unwrap();
     assert!(
         !page.contains("old-plot.png") && !page.contains("old.csv"),
@@ -957,24 +901,12 @@ fn stale_outputs_of_an_earlier_run_are_named_and_not_reported() {
 fn hopper_fig2_panels_follow_the_cases_not_their_order() {
     let exe = env!("CARGO_BIN_EXE_hopper-fig2");
     let out = scratch("hopper-fig2-cases");
-    let o = Command::new(exe)
-        .args(["--cases", "beta1_bond", "--runs", "1", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = ran(exe, &["--cases", "beta1_bond", "--runs", "1"], &out);
     assert!(text.contains("no beta = 0 case among --cases"), "{text}");
     // one run has no error bar, not one of 0
     let zero = |l: &&str| l.contains("(1 runs)") && l.contains("+- 0.0000");
     assert_eq!(text.lines().find(zero), None);
-    let o = Command::new(exe)
-        .args(["--cases", "beta1_bond,beta0", "--runs", "1", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = ran(exe, &["--cases", "beta1_bond,beta0", "--runs", "1"], &out);
     assert!(!text.contains("no beta = 0 case"), "{text}");
     let pictures: Vec<String> = std::fs::read_dir(out.join("hopper-fig2"))
         .unwrap()
@@ -1009,9 +941,8 @@ fn fnv1a64(bytes: &[u8]) -> u64 {
 fn a_resealed_run_with_a_short_series_is_refused() {
     let exe = env!("CARGO_BIN_EXE_waves-fig3");
     let out = scratch("resealed-run");
-    let args = ["--runs", "1", "--steps", "480", "--out"];
-    let o = Command::new(exe).args(args).arg(&out).output().unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let args = ["--runs", "1", "--steps", "480"];
+    ran(exe, &args, &out);
     let mut files = vec![];
     let mut stack = vec![out.clone()];
     while let Some(d) = stack.pop() {
@@ -1042,14 +973,11 @@ fn a_resealed_run_with_a_short_series_is_refused() {
     );
     body.insert("checksum".into(), sum.into());
     std::fs::write(&files[0], v.to_string()).unwrap();
-    let o = Command::new(exe).args(args).arg(&out).output().unwrap();
+    let o = run_out(exe, &args, &out);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(!err.contains("panicked"), "{err}");
-    assert!(
-        err.contains("`contrast` series has") && err.contains("run-00000.json"),
-        "{err}"
-    );
+    assert_has(&err, &["`contrast` series has", "run-00000.json"]);
 }
 
 /// Zero or one run is undecided and has no error bar: a sweep with no run
@@ -1058,11 +986,7 @@ fn a_resealed_run_with_a_short_series_is_refused() {
 #[test]
 fn zero_or_one_run_decides_nothing_and_has_no_error_bar() {
     let out = scratch("vacuous");
-    let o = Command::new(env!("CARGO_BIN_EXE_waves-fig9"))
-        .args(["--rho", "5.99", "--runs", "1", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = run_out(env!("CARGO_BIN_EXE_waves-fig9"), &SWEEP_ONE_RUN, &out);
     let text = String::from_utf8_lossy(&o.stdout);
     let line = text.lines().find(|l| l.contains("valid_up_to_rho_1"));
     assert!(
@@ -1070,12 +994,7 @@ fn zero_or_one_run_decides_nothing_and_has_no_error_bar() {
         "{text}{}",
         String::from_utf8_lossy(&o.stderr)
     );
-    let o = Command::new(env!("CARGO_BIN_EXE_fig2"))
-        .args(["--runs", "1", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = ran(env!("CARGO_BIN_EXE_fig2"), &["--runs", "1"], &out);
     let s = json_at(&out.join("fig2/summary.json"));
     assert!(s["metrics"]["alpha_err"].is_null(), "{}", s["metrics"]);
     assert!(
@@ -1083,7 +1002,6 @@ fn zero_or_one_run_decides_nothing_and_has_no_error_bar() {
         "{}",
         s["missing_metrics"]
     );
-    let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("(no standard error: one run)"), "{text}");
 }
 
@@ -1212,19 +1130,17 @@ fn messages_name_what_is_allowed() {
     // the `#` hides the arguments validate appends ("$@"), which would make
     // sleep fail at once and race the time limit
     let out = scratch("timeout-message");
-    let o = Command::new(env!("CARGO_BIN_EXE_validate"))
-        .args([
-            "--candidate",
-            "cmd:sleep 5 #",
-            "--level",
-            "1",
-            "--model",
-            "pipe",
-        ])
-        .args(["--run-timeout", "0.001", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let args = [
+        "--candidate",
+        "cmd:sleep 5 #",
+        "--level",
+        "1",
+        "--model",
+        "pipe",
+        "--run-timeout",
+        "0.001",
+    ];
+    let o = run_out(env!("CARGO_BIN_EXE_validate"), &args, &out);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("time limit of 0.001 s"), "{err}");
 }
@@ -1261,13 +1177,7 @@ fn report_quotes_its_regenerate_line_and_reads_quoted_args() {
     let Some(r) = report_folder_with_hopper_fig3("quoted-args") else {
         return;
     };
-    let o = Command::new(env!("CARGO_BIN_EXE_report"))
-        .args(["--no-run", "--only", "hopper-fig3", "--tier", "acceptance"])
-        .args(["--args-for", "hopper-fig3=--cases 'beta0'"])
-        .arg("--out")
-        .arg(&r)
-        .output()
-        .unwrap();
+    let o = report_hopper_fig3(&r, &["--args-for", "hopper-fig3=--cases 'beta0'"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let page = std::fs::read_to_string(r.join("report/REPORT.md")).unwrap();
     let quoted = r#"'hopper-fig3=--cases '\''beta0'\'''"#;
@@ -1291,11 +1201,7 @@ fn report_quotes_its_regenerate_line_and_reads_quoted_args() {
 #[test]
 fn a_fresh_sweep_has_no_stale_files() {
     let out = scratch("fresh-sweep");
-    let o = Command::new(env!("CARGO_BIN_EXE_waves-fig9"))
-        .args(["--rho", "5.99", "--runs", "1", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = run_out(env!("CARGO_BIN_EXE_waves-fig9"), &SWEEP_ONE_RUN, &out);
     assert!(
         out.join("waves-fig9/waves-fig9_alpha.png").is_file(),
         "{o:?}"

@@ -53,19 +53,20 @@ fn exit_code(args: &[&str], dir: &Path) -> Option<i32> {
     run_validate(args, dir).status.code()
 }
 
+/// The arguments of a validation of `candidate` at `level`, followed by
+/// `extra`.
+fn candidate_args<'a>(candidate: &'a str, level: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    [&["--candidate", candidate, "--level", level][..], extra].concat()
+}
+
 /// The arguments of a quick-tier validation of `candidate` at `level`,
 /// followed by `extra`.
 fn quick_args<'a>(candidate: &'a str, level: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
-    let mut args = vec![
-        "--candidate",
+    candidate_args(
         candidate,
-        "--level",
         level,
-        "--tier",
-        "quick",
-    ];
-    args.extend_from_slice(extra);
-    args
+        &[&["--tier", "quick"][..], extra].concat(),
+    )
 }
 
 #[test]
@@ -228,7 +229,7 @@ fn scaled_mutants_match_the_catalogue_and_fail_when_gross() {
 #[test]
 fn a_failing_candidate_exits_non_zero_and_says_why() {
     let dir = out("mutant");
-    let args = ["--candidate", "mutant:r1-same-side", "--level", "1"];
+    let args = candidate_args("mutant:r1-same-side", "1", &[]);
     assert_eq!(exit_code(&args, &dir), Some(1));
     let md = std::fs::read_to_string(dir.join("validate/report.md")).unwrap();
     assert!(md.contains("FAIL") && md.contains("interior"), "{md}");
@@ -241,18 +242,11 @@ fn a_failing_candidate_exits_non_zero_and_says_why() {
 fn the_external_example_passes_through_the_contract() {
     let dir = out("external");
     let cmd = format!("cmd:{}", env!("CARGO_BIN_EXE_validate-example"));
-    let args = [
-        "--candidate",
+    let args = candidate_args(
         &cmd,
-        "--level",
         "all",
-        "--trials",
-        "1000",
-        "--runs",
-        "4",
-        "--hopper-runs",
-        "4",
-    ];
+        &["--trials", "1000", "--runs", "4", "--hopper-runs", "4"],
+    );
     let o = run_validate(&args, &dir);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let r = report(&dir);
@@ -392,16 +386,11 @@ fn a_stalled_candidate_is_stopped_and_named() {
         ("pipe", "1", "plan seed"),
         ("hopper", "all", "hopper plan seed"),
     ] {
-        let args = [
-            "--candidate",
+        let args = candidate_args(
             "cmd:sleep 100 #",
-            "--model",
-            model,
-            "--level",
             level,
-            "--run-timeout",
-            "0.5",
-        ];
+            &["--model", model, "--run-timeout", "0.5"],
+        );
         let o = run_validate(&args, &dir);
         let err = text(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{err}");
@@ -439,16 +428,11 @@ fn correlated_draws_pass_the_lone_sites_and_fail_the_memory_probes() {
 #[test]
 fn detect_picks_trials_that_catch_the_target_error() {
     let dir = out("detect");
-    let args = [
-        "--candidate",
+    let args = candidate_args(
         "mutant:p-r3*1.2",
-        "--detect",
-        "10%",
-        "--level",
         "1",
-        "--model",
-        "pipe",
-    ];
+        &["--detect", "10%", "--model", "pipe"],
+    );
     let o = run_validate(&args, &dir);
     let text = text(&o.stdout);
     assert_eq!(o.status.code(), Some(1), "{text}");
@@ -466,14 +450,7 @@ fn detect_picks_trials_that_catch_the_target_error() {
 #[test]
 fn repeat_seeds_do_not_wrap_into_nothing() {
     let dir = out("repeat-wrap");
-    let quick = [
-        "--candidate",
-        "reference",
-        "--level",
-        "1",
-        "--trials",
-        "100",
-    ];
+    let quick = candidate_args("reference", "1", &["--trials", "100"]);
     for (seed, n) in [("18446744073709551615", "2"), ("18446744073709551614", "3")] {
         let o = run_validate(
             &[&quick[..], &["--seed", seed, "--repeat", n]].concat(),
@@ -499,16 +476,7 @@ fn repeat_seeds_do_not_wrap_into_nothing() {
 #[test]
 fn repeat_refuses_an_edited_csv() {
     let dir = out("repeat-edited");
-    let args = [
-        "--candidate",
-        "reference",
-        "--level",
-        "1",
-        "--trials",
-        "100",
-        "--repeat",
-        "2",
-    ];
+    let args = candidate_args("reference", "1", &["--trials", "100", "--repeat", "2"]);
     assert!(run_validate(&args, &dir).status.success());
     let csv = dir.join("validate/repeat-reference.csv");
     let good = std::fs::read_to_string(&csv).unwrap();

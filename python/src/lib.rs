@@ -37,13 +37,27 @@ fn py_err(e: Error) -> PyErr {
 
 /// A tier by name.
 fn tier(name: &str) -> PyResult<Tier> {
-    match name {
-        "quick" => Ok(Tier::Quick),
-        "standard" => Ok(Tier::Standard),
-        "paper" => Ok(Tier::Paper),
-        "acceptance" => Ok(Tier::Acceptance),
-        _ => Err(PyValueError::new_err(format!(
-            "tier '{name}': use one of quick, standard, paper, acceptance"
+    let tiers = [
+        ("quick", Tier::Quick),
+        ("standard", Tier::Standard),
+        ("paper", Tier::Paper),
+        ("acceptance", Tier::Acceptance),
+    ];
+    named(
+        "tier",
+        name,
+        &tiers,
+        "one of quick, standard, paper, acceptance",
+    )
+}
+
+/// The value that `table` gives the name `name`; otherwise a ValueError
+/// naming `what`, `name` and the `names` to use instead.
+fn named<T: Copy>(what: &str, name: &str, table: &[(&str, T)], names: &str) -> PyResult<T> {
+    match table.iter().find(|(n, _)| *n == name) {
+        Some(&(_, v)) => Ok(v),
+        None => Err(PyValueError::new_err(format!(
+            "{what} '{name}': use {names}"
         ))),
     }
 }
@@ -539,10 +553,14 @@ fn spectrum_ensemble(
     })?;
     pb.finish_and_clear();
     let d = PyDict::new(py);
-    d.set_item("alpha", ens.alpha)?;
-    d.set_item("alpha_err", ens.alpha_err)?;
-    d.set_item("v_peak", ens.v_peak)?;
-    d.set_item("v_err", ens.v_err)?;
+    for (key, value) in [
+        ("alpha", ens.alpha),
+        ("alpha_err", ens.alpha_err),
+        ("v_peak", ens.v_peak),
+        ("v_err", ens.v_err),
+    ] {
+        d.set_item(key, value)?;
+    }
     d.set_item("j_peak", ens.j_peak)?;
     d.set_item("alpha_of_mean", ens.fit_of_mean.fit.alpha)?;
     d.set_item("mean_spectrum", ens.mean_spectrum.clone().into_pyarray(py))?;
@@ -580,16 +598,12 @@ fn spectrum<'py>(
     k: usize,
     window: &str,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let window = match window {
-        "parzen" => Window::Parzen1988,
-        "bartlett" => Window::Bartlett1992,
-        "square" => Window::Square,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "window '{other}': use parzen, bartlett or square"
-            )))
-        }
-    };
+    let windows = [
+        ("parzen", Window::Parzen1988),
+        ("bartlett", Window::Bartlett1992),
+        ("square", Window::Square),
+    ];
+    let window = named("window", window, &windows, "parzen, bartlett or square")?;
     let s = series.as_slice()?;
     let p = spctrm(s, &SpectrumParams { m, k, window }).map_err(py_err)?;
     Ok(p.into_pyarray(py))
@@ -821,16 +835,8 @@ fn validate(
     name: &str,
 ) -> PyResult<PyObject> {
     use ga::validate::{Level, Model, Plan, Size};
-    let levels = match level {
-        "1" => Level::One,
-        "2" => Level::Two,
-        "all" => Level::All,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "level '{other}': use 1, 2 or all"
-            )))
-        }
-    };
+    let levels = [("1", Level::One), ("2", Level::Two), ("all", Level::All)];
+    let levels = named("level", level, &levels, "1, 2 or all")?;
     let t = self::tier(tier)?;
     let plan = Plan::new(rules, levels, Model::Pipe, t, Size::for_tier(t), seed);
     let report = if let Ok(spec) = candidate.extract::<String>() {

@@ -11,6 +11,7 @@ use super::claims::{Graded, Verdict};
 use crate::error::{Error, ErrorKind, Result};
 use crate::pipe::Rules;
 use crate::plot::{line_chart, Line};
+use plotters::chart::SeriesLabelPosition;
 use plotters::style::RGBColor;
 use serde::Serialize;
 use std::path::Path;
@@ -324,6 +325,7 @@ pub fn chart(path: &Path, rows: &[ScoreRow], picked: f64) -> Result<()> {
         "claims reproduced (lines up to 0.1 apart)",
         &lines,
         false,
+        SeriesLabelPosition::UpperRight,
     )
 }
 

@@ -312,7 +312,8 @@ fn band_stat(
     steps: u64,
 ) -> Result<(Estimate, usize)> {
     let res = ensemble(seeds.len(), |i| {
-        run_bands(params, rules, engine, seeds[i], steps, 80)
+        let mut pipe = engine.build(params, rules, seeds[i])?;
+        run_bands(pipe.as_mut(), steps, 80)
     });
     let mut s = Vec::new();
     let mut invalid = 0;

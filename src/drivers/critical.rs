@@ -25,6 +25,7 @@ use crate::pipe::open::{
 use crate::pipe::{Engine, Params, Rules};
 use crate::plot::{errorbar_chart_marked, free_corner_rows, line_chart, ErrSeries, Line, PALETTE};
 use crate::run::{mark_discrepancies, Check, Output};
+use plotters::chart::SeriesLabelPosition;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -525,6 +526,7 @@ pub fn plot_nt(
         "particle number N(t)",
         &nlines,
         false,
+        SeriesLabelPosition::UpperRight,
     )
 }
 
@@ -630,18 +632,10 @@ mod tests {
             "I0.49_lower_end" => 0.9, // on the margin's edge (0.1)
             _ => 2.0,                 // read by no check
         };
-        let mut asked: Vec<(String, usize)> = Vec::new();
-        let (results, checks) = sweep_looks(
-            &design,
-            &points,
-            |p, n, _| {
-                asked.push((p.label.clone(), n));
-                Ok(Some(PointResult::of_alpha(p, alpha(&p.label), 0.05, n)))
-            },
-            |rs| spectrum_checks(rs, true, i_c),
-        )
-        .unwrap()
-        .unwrap();
+        let (results, checks, asked) =
+            PointResult::looks_of_alpha(&design, &points, alpha, 0.05, |rs| {
+                spectrum_checks(rs, true, i_c)
+            });
         let runs = |label: &str| {
             results
                 .iter()

@@ -19,6 +19,7 @@ use crate::pipe::open::{open_run, peak_index};
 use crate::pipe::{Engine, Rules};
 use crate::plot::{line_chart, png, Line, SpaceTime, PALETTE};
 use crate::run::{mean_sem, Check, Output};
+use plotters::chart::SeriesLabelPosition;
 use serde_json::json;
 use std::collections::BTreeMap;
 
@@ -179,6 +180,7 @@ pub fn draw_correlation(out: &Output, stem: &str, inject: f64, cs: &CorrSpeed) -
         ]
         .concat(),
         false,
+        SeriesLabelPosition::UpperRight,
     )
 }
 

@@ -19,6 +19,7 @@ use crate::hopper::picture::{draw_snapshots, outflow_charts, spectrum_chart, Pan
 use crate::hopper::{Geometry, Hopper, HopperParams};
 use crate::plot::{line_chart, points, Line, PALETTE};
 use crate::run::{mean_sem_at, mean_sem_by, metrics_of, stat_metrics, Check, Output, Tier};
+use plotters::chart::SeriesLabelPosition;
 use std::collections::BTreeMap;
 
 /// BB90 Fig. 2a, central core: (activity at centre + 1e-3)/(next to walls
@@ -203,6 +204,7 @@ impl Fig2Runs {
             "fraction of iterations with a moving grain",
             &lines,
             false,
+            SeriesLabelPosition::UpperRight,
         )?;
         glines.push(Line::new(
             "random: 1/3",
@@ -217,6 +219,7 @@ impl Fig2Runs {
             "fraction of pairs with equal orientation",
             &glines,
             false,
+            SeriesLabelPosition::UpperRight,
         )
     }
 
@@ -355,6 +358,15 @@ pub fn slope_jackknife_se(records: &[Record], m: usize) -> Result<f64> {
             .collect();
         Ok(analyse_outflow(&rest, m)?.fit.slope)
     })
+}
+
+/// The cases of hopper figure `binary`'s `--cases` (`cases`, keys of
+/// [`Case::ALL`]); a `--shard` in `c` is refused, as the figure keeps all its
+/// runs in one process.
+pub fn cases_of(c: &crate::cli::Common, cases: &str, binary: &str) -> Result<Vec<Case>> {
+    let cases = Case::parse_list(cases)?;
+    c.reject_shard(binary)?;
+    Ok(cases)
 }
 
 /// BB90 Fig. 3's set-up at `tier`: the hopper (quick: small; standard:

@@ -20,6 +20,7 @@ use crate::pipe::{Params, Rules};
 use crate::plot::{errorbar_chart, line_chart, mean_se_lines, points, ErrSeries, Line, PALETTE};
 use crate::run::{difference, mean_sem_at, mean_sem_by, median, metrics_of, stat_metrics};
 use crate::run::{stats_by, Check, Figure, Output};
+use plotters::chart::SeriesLabelPosition;
 use std::collections::BTreeMap;
 
 /// PH95 Fig. 4: a wave's amplitude must exceed NULL_FACTOR times the
@@ -170,6 +171,7 @@ pub fn draw_fig4(
         "density / mean density",
         &lines,
         false,
+        SeriesLabelPosition::UpperRight,
     )?;
     let [amp, width, asym] = shape_pts;
     let x100 = |v: Vec<(f64, f64, f64)>| {
@@ -526,6 +528,7 @@ impl SpeedReadings {
             "shift of maximal overlap s (rows, + = up)",
             &lines,
             false,
+            SeriesLabelPosition::UpperRight,
         )?;
         let v_spec_mean = self.v_spectral_of_mean;
         line_chart(
@@ -541,6 +544,7 @@ impl SpeedReadings {
                 PALETTE[0],
             )],
             true,
+            SeriesLabelPosition::UpperRight,
         )
     }
 }

@@ -7,6 +7,7 @@ use crate::analysis::relaxation::{Saturation, SATURATION_MARGIN};
 use crate::error::Result;
 use crate::plot::{line_chart, mean_se_lines, Line, PALETTE};
 use crate::run::{Check, Output};
+use plotters::chart::SeriesLabelPosition;
 
 /// The published claims of PH95 Fig. 3, graded by the one rule from the
 /// contrast `c` and the energy loss `e` of `runs` runs (used by
@@ -75,6 +76,7 @@ pub fn draw_fig3(
         "density contrast C (PH95 eq. 1)",
         &a,
         false,
+        SeriesLabelPosition::UpperRight,
     )?;
     line_chart(
         &out.path("fig3b.png"),
@@ -83,5 +85,6 @@ pub fn draw_fig3(
         "E(0) - E(t) (moving particles lost)",
         &mean_se_lines("mean over runs", t, em, ee, PALETTE[1]),
         false,
+        SeriesLabelPosition::UpperRight,
     )
 }

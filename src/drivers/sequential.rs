@@ -10,7 +10,7 @@ use crate::analysis::fit::alpha_prefix;
 use crate::analysis::grading::{Claim, Verdict};
 use crate::analysis::sequential::{simulate, simulate_claim, Design, Simulated, Source, Spending};
 use crate::error::{Error, ErrorKind, Result};
-use crate::plot::{line_chart_at, Line, PALETTE};
+use crate::plot::{line_chart, Line, PALETTE};
 use crate::run::Output;
 use plotters::chart::SeriesLabelPosition;
 use std::path::Path;
@@ -367,7 +367,7 @@ pub fn write(
         vec![(0.0, ALPHA), (2.0, ALPHA)],
         plotters::style::BLACK,
     ));
-    line_chart_at(
+    line_chart(
         &out.path("wrong.png"),
         &format!("Worst wrong-verdict rate of normal and of resampled committed runs ({trials} trials per point)"),
         "distance of the truth from the published value (margins)",
@@ -376,7 +376,7 @@ pub fn write(
         false,
         SeriesLabelPosition::UpperRight,
     )?;
-    line_chart_at(
+    line_chart(
         &out.path("runs.png"),
         &format!("Mean runs spent against the truth's distance ({trials} trials per point)"),
         "distance of the truth from the published value (margins)",

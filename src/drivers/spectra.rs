@@ -9,7 +9,7 @@ use crate::analysis::spectrum::{average_spectra, spctrm, SpectrumParams, Window}
 use crate::error::Result;
 use crate::pipe::Engine;
 use crate::pipe::{Params, Rules};
-use crate::plot::{line_chart_at, Line, PALETTE};
+use crate::plot::{line_chart, Line, PALETTE};
 use crate::run::{ensemble, mean_sem};
 use plotters::chart::SeriesLabelPosition;
 use plotters::style::RGBColor;
@@ -344,7 +344,7 @@ pub fn published_alpha_lines(ens: &SpectrumEnsemble, (alpha, margin): Published)
 /// legend at the lower left. The samples are T0 = 10 steps apart at every
 /// tier ([`tier_setup`]).
 pub fn spectra_chart(path: &Path, title: &str, lines: &[Line]) -> Result<()> {
-    line_chart_at(
+    line_chart(
         path,
         title,
         "j (frequency j/(2m) per sample of 10 steps)",

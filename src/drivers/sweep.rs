@@ -707,6 +707,33 @@ impl PointResult {
         }
     }
 
+    /// [`sweep_looks`] of `design` over `points` whose runs stand in as
+    /// [`PointResult::of_alpha`] with alpha `alpha(label)` and spread
+    /// `sigma`, graded by `checks_of`: the results, the checks, and every
+    /// point and count of runs asked for, in order.
+    #[cfg(test)]
+    pub fn looks_of_alpha(
+        design: &crate::analysis::sequential::Design,
+        points: &[SweepPoint],
+        alpha: impl Fn(&str) -> f64,
+        sigma: f64,
+        checks_of: impl Fn(&[PointResult]) -> Vec<crate::run::Check>,
+    ) -> (
+        Vec<PointResult>,
+        Vec<crate::run::Check>,
+        Vec<(String, usize)>,
+    ) {
+        let mut asked = Vec::new();
+        let run_point = |p: &SweepPoint, n, _: &str| {
+            asked.push((p.label.clone(), n));
+            Ok(Some(PointResult::of_alpha(p, alpha(&p.label), sigma, n)))
+        };
+        let (results, checks) = sweep_looks(design, points, run_point, checks_of)
+            .unwrap()
+            .unwrap();
+        (results, checks, asked)
+    }
+
     /// alpha as graded: of the averaged spectrum when [`PointResult::of_mean`]
     /// is present, else the per-run alpha of the valid runs.
     pub fn alpha_estimate(&self) -> Estimate {
@@ -920,23 +947,12 @@ impl<'a> SweepFigure<'a> {
         args: &'a crate::cli::PipeArgs,
         points: Vec<SweepPoint>,
     ) -> Result<Option<Self>> {
-        let (figure, rules, engine, c) = args.rules.start(&args.common, binary, paper)?;
-        let runs = c.runs_for(2, 8, 32, super::acceptance::sweep_runs(binary));
-        let setup_of = |p| super::spectra::tier_setup(c.tier, p, rules, engine);
-        let Some(results) = run_sweep(c, binary, &points, runs, setup_of)? else {
-            return Ok(None);
-        };
-        let out = figure.output(&c.out)?;
-        Ok(Some(SweepFigure {
-            figure,
-            args,
-            rules,
-            engine,
-            runs,
-            points,
-            results,
-            out,
-        }))
+        let fig = SweepFigure::started(binary, paper, args, points, |c, setup_of, points| {
+            let runs = c.runs_for(2, 8, 32, super::acceptance::sweep_runs(binary));
+            let results = run_sweep(c, binary, points, runs, setup_of)?;
+            Ok(results.map(|results| (results, runs, ())))
+        })?;
+        Ok(fig.map(|(fig, ())| fig))
     }
 
     /// [`SweepFigure::run`] with the figure's checks: `checks_of` computes
@@ -960,41 +976,64 @@ impl<'a> SweepFigure<'a> {
             let checks = checks_of(&fig.results);
             return Ok(Some((fig, checks)));
         }
-        let (figure, rules, engine, c) = args.pipe.rules.start(&args.pipe.common, binary, paper)?;
-        let design =
-            super::acceptance::design(super::acceptance::sweep_runs(binary), args.sequential_max)?;
+        SweepFigure::started(binary, paper, &args.pipe, points, |c, setup_of, points| {
+            let design = super::acceptance::design(
+                super::acceptance::sweep_runs(binary),
+                args.sequential_max,
+            )?;
+            let looks = sweep_looks(
+                &design,
+                points,
+                |point, n, note| {
+                    let setup = setup_of(point.params);
+                    noted_point(c, binary, point, n, &setup, note)
+                },
+                &checks_of,
+            )?;
+            Ok(looks.map(|(results, checks)| {
+                let runs = results
+                    .iter()
+                    .map(|r| r.valid + r.invalid)
+                    .max()
+                    .unwrap_or(0);
+                (results, runs, checks)
+            }))
+        })
+    }
+
+    /// Starts figure `binary` (reproducing `paper`) and has `results_of`
+    /// run its points, given the common options and the spectrum set-up of
+    /// a pipe at the figure's tier and rules: the points' results, the runs
+    /// per point and whatever else it computed, or `None` when only a shard
+    /// was computed.
+    fn started<T>(
+        binary: &'static str,
+        paper: &'static str,
+        args: &'a crate::cli::PipeArgs,
+        points: Vec<SweepPoint>,
+        results_of: impl FnOnce(
+            &crate::cli::Common,
+            &dyn Fn(Params) -> SpectrumSetup,
+            &[SweepPoint],
+        ) -> Result<Option<(Vec<PointResult>, usize, T)>>,
+    ) -> Result<Option<(Self, T)>> {
+        let (figure, rules, engine, c) = args.rules.start(&args.common, binary, paper)?;
         let setup_of = |p| super::spectra::tier_setup(c.tier, p, rules, engine);
-        let looks = sweep_looks(
-            &design,
-            &points,
-            |point, n, note| {
-                let setup = setup_of(point.params);
-                noted_point(c, binary, point, n, &setup, note)
-            },
-            &checks_of,
-        )?;
-        let Some((results, checks)) = looks else {
+        let Some((results, runs, other)) = results_of(c, &setup_of, &points)? else {
             return Ok(None);
         };
-        let runs = results
-            .iter()
-            .map(|r| r.valid + r.invalid)
-            .max()
-            .unwrap_or(0);
         let out = figure.output(&c.out)?;
-        Ok(Some((
-            SweepFigure {
-                figure,
-                args: &args.pipe,
-                rules,
-                engine,
-                runs,
-                points,
-                results,
-                out,
-            },
-            checks,
-        )))
+        let fig = SweepFigure {
+            figure,
+            args,
+            rules,
+            engine,
+            runs,
+            points,
+            results,
+            out,
+        };
+        Ok(Some((fig, other)))
     }
 
     /// The spectrum set-up of a pipe at this figure's tier and rules.
@@ -1200,15 +1239,8 @@ mod tests {
             "p1" => 3.0,   // far off: decided not reproduced at once
             _ => 1.3,
         };
-        let mut asked: Vec<(String, usize)> = Vec::new();
-        let (results, checks) = sweep_looks(
-            &design,
-            &points,
-            |p, n, _| {
-                asked.push((p.label.clone(), n));
-                Ok(Some(PointResult::of_alpha(p, truth(&p.label), 0.2, n)))
-            },
-            |rs| {
+        let (results, checks, asked) =
+            PointResult::looks_of_alpha(&design, &points, truth, 0.2, |rs| {
                 let reference = rs.iter().find(|r| r.point.label == "p0.5").unwrap();
                 rs.iter()
                     .filter(|r| r.point.label != "p0.5")
@@ -1224,10 +1256,7 @@ mod tests {
                         )
                     })
                     .collect()
-            },
-        )
-        .unwrap()
-        .unwrap();
+            });
         let last = |label: &str| {
             asked
                 .iter()

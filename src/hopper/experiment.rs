@@ -376,26 +376,20 @@ impl Case {
     };
     /// The literal reading filled by a narrow rain, sigma a quarter of the
     /// tier's (HOPPER_READINGS.md R7).
-    pub const BETA1_ALONG_NARROW: Case = Case {
-        key: "beta1_along_narrow",
-        caption: "beta = 1, along-velocity, narrow rain",
-        rain_scale: 0.25,
-        ..Case::BETA1_ALONG
-    };
+    pub const BETA1_ALONG_NARROW: Case = Case::BETA1_ALONG.narrow(
+        "beta1_along_narrow",
+        "beta = 1, along-velocity, narrow rain",
+    );
     /// The same-orientation reading filled by a narrow rain.
-    pub const BETA1_SAME_NARROW: Case = Case {
-        key: "beta1_same_narrow",
-        caption: "beta = 1, same-orientation, narrow rain",
-        rain_scale: 0.25,
-        ..Case::BETA1_SAME
-    };
+    pub const BETA1_SAME_NARROW: Case = Case::BETA1_SAME.narrow(
+        "beta1_same_narrow",
+        "beta = 1, same-orientation, narrow rain",
+    );
     /// The rest-pairs reading filled by a narrow rain.
-    pub const BETA1_REST_NARROW: Case = Case {
-        key: "beta1_rest_narrow",
-        caption: "beta = 1, along-velocity, rest pairs = same, narrow rain",
-        rain_scale: 0.25,
-        ..Case::BETA1_REST
-    };
+    pub const BETA1_REST_NARROW: Case = Case::BETA1_REST.narrow(
+        "beta1_rest_narrow",
+        "beta = 1, along-velocity, rest pairs = same, narrow rain",
+    );
     /// beta = 0 with grains updated one at a time in a random order (a
     /// diagnostic that contradicts BB90's "simultaneously").
     pub const BETA0_SEQUENTIAL: Case = Case {
@@ -455,6 +449,17 @@ impl Case {
         Case::BETA1_ALONG_REVERT,
         Case::BETA1_SAME_SEQUENTIAL,
     ];
+
+    /// This case filled by a narrow rain, sigma a quarter of the tier's
+    /// (HOPPER_READINGS.md R7), as the case `key` with legend `caption`.
+    pub const fn narrow(self, key: &'static str, caption: &'static str) -> Case {
+        Case {
+            key,
+            caption,
+            rain_scale: 0.25,
+            ..self
+        }
+    }
 
     /// The cases named in the comma-separated list `keys` (`--cases`); a
     /// typed error names an unknown key and the known ones, or a key given

@@ -280,5 +280,6 @@ pub fn spectrum_chart(path: &Path, spectra: &[(&str, &[f64], LinearFit)]) -> Res
         "log10 power (NR spctrm, averaged over runs)",
         &lines,
         false,
+        SeriesLabelPosition::UpperRight,
     )
 }

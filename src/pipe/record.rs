@@ -178,18 +178,11 @@ pub fn fig1_panels(
     ])
 }
 
-/// Band statistics of one run of `steps` steps sampled every `every`, over
+/// Band statistics of `steps` steps of `pipe` sampled every `every`, over
 /// the second half (MODEL.md A11).
-pub fn run_bands(
-    params: Params,
-    rules: Rules,
-    engine: Engine,
-    seed: u64,
-    steps: u64,
-    every: u64,
-) -> Result<Bands> {
-    let mut pipe = engine.build(params, rules, seed)?;
-    let rec = record(pipe.as_mut(), steps, every, |_| {})?;
+pub fn run_bands(pipe: &mut dyn PipeEngine, steps: u64, every: u64) -> Result<Bands> {
+    let rec = record(pipe, steps, every, |_| {})?;
+    let params = pipe.params();
     Ok(bands(
         &rec,
         rec.n.len() / 2,

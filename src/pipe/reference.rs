@@ -8,6 +8,12 @@
 //! with relocation, gravity, walls, propagation; each is one function of the
 //! `SubSteps` impl below, in that order. What a run measures (counts, bin
 //! densities) is in [`super::observables`].
+//!
+//! The fast engine (`src/pipe/fast/`) writes the same sub-steps again, on
+//! purpose: this engine must read like the specification, one rule at a
+//! time, and the fast one is an independent implementation that VALIDATION.md
+//! checks against it; code shared by the two would let one mistake pass in
+//! both.
 
 use super::collision::{bit, threshold, CollisionTable, Entry, REST_BIT};
 use super::draws::Draws;

@@ -13,6 +13,12 @@
 //! reference (MODEL.md A4), on a neighbour table ([`walk`]). Every rule
 //! reading of [`Rules`] is supported.
 //!
+//! The sub-steps repeat those of the reference engine
+//! (`src/pipe/reference.rs`) on purpose: the reference must read like the
+//! specification, and this engine is an independent implementation validated
+//! against it (VALIDATION.md); code shared by the two would let one mistake
+//! pass in both.
+//!
 //! ```
 //! use granular_automata::pipe::engine::PipeEngine;
 //! use granular_automata::pipe::fast::FastPipe;
