@@ -52,22 +52,12 @@ pub const READINGS: [(&str, &str); 11] = [
     ("rest-ahead", "rest-ahead+gravity-first+wall-move"),
 ];
 
-/// The pipe's figure binaries whose published checks the map grades.
-pub const FIGURES: [&str; 13] = [
-    "fig1",
-    "fig2",
-    "waves-fig2",
-    "waves-fig3",
-    "waves-fig4",
-    "waves-fig5",
-    "waves-fig6",
-    "waves-fig7",
-    "waves-fig8",
-    "waves-fig9",
-    "waves-fig10",
-    "waves-fig11",
-    "waves-fig12",
-];
+/// The pipe's figure binaries whose published checks the map grades, in
+/// the papers' order: every figure but the hopper's.
+pub fn figures() -> Vec<&'static str> {
+    let order = crate::experiments::ORDER.into_iter();
+    order.filter(|b| report::is_pipe_figure(b)).collect()
+}
 
 /// The headline claims the decision rule protects: PH94 Fig. 2's v and
 /// PH95 Fig. 12's I_c (binary, check).
@@ -229,13 +219,13 @@ pub fn run(base: &Options, readings: &[(String, String)]) -> Result<Map> {
         let parsed: Rules = rules.parse()?;
         let mut opts = base.clone();
         opts.out = base.out.join(label);
-        opts.figures = FIGURES.map(String::from).to_vec();
-        opts.extra = FIGURES
-            .iter()
+        opts.figures = figures().into_iter().map(String::from).collect();
+        opts.extra = figures()
+            .into_iter()
             .map(|f| (f.to_string(), vec!["--rules".to_string(), rules.clone()]))
             .collect();
         let mut runs = vec![];
-        for binary in FIGURES {
+        for binary in figures() {
             let done = base.no_run || finished(&opts.out, binary, &parsed, opts.tier, &engine);
             let run = if done {
                 report::summary_only(&opts.out, binary)

@@ -10,22 +10,6 @@ mod common;
 use std::path::PathBuf;
 use std::process::Command;
 
-const FIGURES: [&str; 13] = [
-    "fig1",
-    "fig2",
-    "waves-fig2",
-    "waves-fig3",
-    "waves-fig4",
-    "waves-fig5",
-    "waves-fig6",
-    "waves-fig7",
-    "waves-fig8",
-    "waves-fig9",
-    "waves-fig10",
-    "waves-fig11",
-    "waves-fig12",
-];
-
 #[test]
 fn the_committed_reports_pipe_checks_render_as_one_column() {
     let Some(report) = common::in_repository("docs/report") else {
@@ -34,7 +18,9 @@ fn the_committed_reports_pipe_checks_render_as_one_column() {
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("readings-map");
     let _ = std::fs::remove_dir_all(&out);
     let mut published = 0;
-    for f in FIGURES {
+    let figures = granular_automata::readings_map::figures();
+    assert_eq!(figures.len(), 13);
+    for f in figures {
         let dir = out.join("default").join(f);
         std::fs::create_dir_all(&dir).unwrap();
         let text = std::fs::read_to_string(report.join(f).join("summary.json")).unwrap();
