@@ -4,7 +4,7 @@
 //! there, into OUT/readings-map/: map.png (claims as rows by
 //! kind, readings as columns, coloured by verdict), matrix.csv, matrix.md
 //! (with the decision rule applied), conflicts.md and map.json. Each
-//! reading's figures go to OUT/<reading>/; finished ones are read, not
+//! reading's figures go to `OUT/<reading>/`; finished ones are read, not
 //! rerun, so an interrupted map resumes.
 //!
 //! `cargo build --release --bins && target/release/readings-map --tier quick --readings default,literal-labels`
@@ -28,7 +28,7 @@ struct Args {
     /// Readings, comma-separated labels of `readings_map::READINGS`, or all.
     #[arg(long, default_value = "all")]
     readings: String,
-    /// Output folder: OUT/<reading>/<figure>/ and OUT/readings-map/.
+    /// Output folder: `OUT/<reading>/<figure>/` and OUT/readings-map/.
     #[arg(long, default_value = "results-map")]
     out: PathBuf,
     /// Base seed of every figure (default: each figure's own, 1).
